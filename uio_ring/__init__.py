@@ -1,0 +1,68 @@
+"""uio_ring — exact design and verification of unknown-input observers for
+linear systems with commensurate delays.
+
+The public names are importable from here; they are loaded lazily, so that
+``import uio_ring`` stays cheap (no sympy, flint, numpy or matplotlib until a
+name that needs them is used).
+
+>>> from uio_ring import PolyMatrix, smith
+>>> smith(PolyMatrix("[[d, 0], [0, d + 1]]")).invariant_factors
+(1, d**2 + d)
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+__version__ = "0.1.0"
+
+# name -> module that defines it.  Add one line per public name.
+_LAZY: dict[str, str] = {
+    # ring (issue 2)
+    "PolyMatrix": "uio_ring.ring.matrix",
+    "Poly": "uio_ring.ring.matrix",
+    "hermite": "uio_ring.ring.hermite",
+    "HermiteResult": "uio_ring.ring.hermite",
+    "is_hermite": "uio_ring.ring.hermite",
+    "smith": "uio_ring.ring.smith",
+    "SmithResult": "uio_ring.ring.smith",
+    "invariant_factors": "uio_ring.ring.smith",
+    "is_smith": "uio_ring.ring.smith",
+    "left_inverse": "uio_ring.ring.inverse",
+    "right_inverse": "uio_ring.ring.inverse",
+    "is_unimodular": "uio_ring.ring.inverse",
+    "is_left_unimodular": "uio_ring.ring.inverse",
+    "is_right_unimodular": "uio_ring.ring.inverse",
+    "left_kernel": "uio_ring.ring.kernel",
+    "solve_left": "uio_ring.ring.solve",
+    "Certificate": "uio_ring.ring.certificate",
+    "Check": "uio_ring.ring.certificate",
+    # errors
+    "UioRingError": "uio_ring.errors",
+    "DimensionError": "uio_ring.errors",
+    "ParseError": "uio_ring.errors",
+    "DomainError": "uio_ring.errors",
+    "NotUnimodularError": "uio_ring.errors",
+    "NoPolynomialSolutionError": "uio_ring.errors",
+    "MissingDependencyError": "uio_ring.errors",
+    "NotObservableError": "uio_ring.errors",
+    "SpecError": "uio_ring.errors",
+    # systems / analysis / design (issue 3) — add entries here
+}
+
+__all__ = sorted(_LAZY) + ["__version__"]
+
+
+def __getattr__(name: str) -> Any:
+    try:
+        module = _LAZY[name]
+    except KeyError:
+        raise AttributeError(f"module 'uio_ring' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return __all__

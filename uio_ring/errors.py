@@ -1,0 +1,53 @@
+"""Exception hierarchy of uio_ring (see :mod:`uio_ring.ring.errors` for the root).
+
+``NotObservableError`` carries the analysis report that explains which
+assumption failed; ``SpecError`` carries the path inside a spec file.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from uio_ring.ring.errors import (
+    DimensionError,
+    DomainError,
+    MissingDependencyError,
+    NoPolynomialSolutionError,
+    NotUnimodularError,
+    ParseError,
+    UioRingError,
+    require,
+)
+
+__all__ = [
+    "UioRingError",
+    "DimensionError",
+    "ParseError",
+    "DomainError",
+    "NotUnimodularError",
+    "NoPolynomialSolutionError",
+    "MissingDependencyError",
+    "NotObservableError",
+    "SpecError",
+    "require",
+]
+
+
+class NotObservableError(UioRingError, ValueError):
+    """A design method refuses a system because one of its assumptions fails.
+
+    ``report`` is the analysis report (with ``.reason``) that shows which one.
+    """
+
+    def __init__(self, message: str, *, report: Any = None):
+        super().__init__(message)
+        self.report = report
+
+
+class SpecError(UioRingError, ValueError):
+    """A spec file (or dict) that cannot be used; ``path`` is where, e.g. ``system.C[2][1]``."""
+
+    def __init__(self, message: str, *, path: str | None = None):
+        super().__init__(f"{path}: {message}" if path else message)
+        self.path = path
+        self.detail = message

@@ -1,0 +1,1 @@
+"""Exact algebra over Q[δ]: polynomial matrices and their normal forms."""

@@ -1,0 +1,221 @@
+"""Scalar arithmetic in Q[δ] — the only module that knows how a polynomial is stored.
+
+Polynomials are python-flint ``fmpq_poly`` objects (exact rational coefficients,
+arithmetic in C).  Everything else in :mod:`uio_ring.ring` goes through the
+names defined here, so the representation can change in this one file.
+
+Conventions: the degree of the zero polynomial is ``-1``; coefficients are
+listed from the constant term upwards.
+
+>>> p = from_coeffs([Fraction(1, 3), 0, 2])
+>>> degree(p), coeffs(p), to_str(p, "d")
+(2, [Fraction(1, 3), Fraction(0, 1), Fraction(2, 1)], '2*d**2 + 1/3')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+
+import flint
+
+__all__ = [
+    "Scalar",
+    "RawPoly",
+    "Rat",
+    "ZERO",
+    "ONE",
+    "GEN",
+    "const",
+    "from_coeffs",
+    "coeffs",
+    "degree",
+    "lc",
+    "is_zero",
+    "is_constant",
+    "monic",
+    "to_fraction",
+    "to_rat",
+    "evaluate",
+    "to_str",
+    "to_latex",
+    "monomial",
+    "xgcd",
+    "gcd",
+    "height",
+    "mat_from_rows",
+    "mat_rank",
+    "mat_det",
+    "mat_entries",
+]
+
+RawPoly = flint.fmpq_poly
+Rat = flint.fmpq
+Scalar = int | Fraction
+
+ZERO = flint.fmpq_poly()
+ONE = flint.fmpq_poly([1])
+GEN = flint.fmpq_poly([0, 1])
+
+
+def to_rat(value: Scalar) -> flint.fmpq:
+    """An exact flint rational from an int or Fraction (precondition: no float)."""
+    if isinstance(value, Fraction):
+        return flint.fmpq(value.numerator, value.denominator)
+    return flint.fmpq(value)
+
+
+def const(value: Scalar) -> flint.fmpq_poly:
+    """The constant polynomial ``value``."""
+    if isinstance(value, Fraction):
+        return flint.fmpq_poly([value.numerator]) / value.denominator
+    return flint.fmpq_poly([value])
+
+
+def monomial(c: flint.fmpq, e: int) -> flint.fmpq_poly:
+    """``c·δ**e`` (precondition: e ≥ 0, not checked)."""
+    p = flint.fmpq_poly()
+    p[e] = c
+    return p
+
+
+def from_coeffs(cs: Sequence[Scalar]) -> flint.fmpq_poly:
+    """The polynomial ``Σ cs[i] δ^i`` (cs: ints or Fractions)."""
+    p = flint.fmpq_poly()
+    for i, c in enumerate(cs):
+        if c:
+            p[i] = to_rat(c)
+    return p
+
+
+def to_fraction(q: flint.fmpq) -> Fraction:
+    return Fraction(int(q.p), int(q.q))
+
+
+def coeffs(p: flint.fmpq_poly) -> list[Fraction]:
+    """Coefficients as Fractions, constant term first; ``[]`` for zero."""
+    return [to_fraction(c) for c in p.coeffs()]
+
+
+def degree(p: flint.fmpq_poly) -> int:
+    return int(p.degree())
+
+
+def lc(p: flint.fmpq_poly) -> flint.fmpq:
+    """Leading coefficient (precondition: p ≠ 0, not checked)."""
+    return p[p.degree()]
+
+
+def is_zero(p: flint.fmpq_poly) -> bool:
+    return p.is_zero()
+
+
+def is_constant(p: flint.fmpq_poly) -> bool:
+    return p.degree() <= 0
+
+
+def monic(p: flint.fmpq_poly) -> flint.fmpq_poly:
+    """``p / lc(p)``; zero stays zero."""
+    if p.is_zero():
+        return p
+    return p / p[p.degree()]
+
+
+def evaluate(p: flint.fmpq_poly, x: flint.fmpq) -> flint.fmpq:
+    return p(x)
+
+
+def xgcd(a: flint.fmpq_poly, b: flint.fmpq_poly):
+    """``(g, s, t)`` with ``g = s·a + t·b`` monic (``g = 0`` iff a = b = 0)."""
+    return a.xgcd(b)
+
+
+def gcd(a: flint.fmpq_poly, b: flint.fmpq_poly) -> flint.fmpq_poly:
+    """Monic gcd (0 if both are 0)."""
+    return a.gcd(b)
+
+
+def height(p: flint.fmpq_poly) -> int:
+    """A cheap size measure: bits of the numerator coefficients plus the denominator."""
+    num = p.numer()
+    return sum(abs(int(c)).bit_length() for c in num.coeffs()) + int(p.denom()).bit_length()
+
+
+def _fmt_rat(q: Fraction) -> str:
+    return str(q.numerator) if q.denominator == 1 else f"{q.numerator}/{q.denominator}"
+
+
+def to_str(p: flint.fmpq_poly, var: str, *, power: str = "**", times: str = "*") -> str:
+    """sympy-style text, highest power first: ``2*d**2 - d + 1/3``."""
+    cs = coeffs(p)
+    if not cs:
+        return "0"
+    terms: list[tuple[int, str]] = []
+    for e in range(len(cs) - 1, -1, -1):
+        c = cs[e]
+        if c == 0:
+            continue
+        sign = -1 if c < 0 else 1
+        a = abs(c)
+        if e == 0:
+            body = _fmt_rat(a)
+        else:
+            mono = var if e == 1 else f"{var}{power}{e}"
+            if a == 1:
+                body = mono
+            elif a.denominator == 1:
+                body = f"{a.numerator}{times}{mono}"
+            elif a.numerator == 1:
+                body = f"{mono}/{a.denominator}"
+            else:
+                body = f"{a.numerator}{times}{mono}/{a.denominator}"
+        terms.append((sign, body))
+    first_sign, first = terms[0]
+    out = ("-" if first_sign < 0 else "") + first
+    for sign, body in terms[1:]:
+        out += (" - " if sign < 0 else " + ") + body
+    return out
+
+
+def to_latex(p: flint.fmpq_poly, sym: str) -> str:
+    """LaTeX text, highest power first: ``\\tfrac{1}{3} \\delta^{2} - \\delta``."""
+    cs = coeffs(p)
+    if not cs:
+        return "0"
+    out = ""
+    for e in range(len(cs) - 1, -1, -1):
+        c = cs[e]
+        if c == 0:
+            continue
+        sign = "-" if c < 0 else "+"
+        a = abs(c)
+        if a.denominator == 1:
+            num = "" if (a == 1 and e > 0) else str(a.numerator)
+        else:
+            num = f"\\tfrac{{{a.numerator}}}{{{a.denominator}}}"
+        mono = "" if e == 0 else (sym if e == 1 else f"{sym}^{{{e}}}")
+        body = f"{num} {mono}".strip() if num and mono else (num or mono)
+        if not out:
+            out = ("-" if sign == "-" else "") + body
+        else:
+            out += f" {sign} {body}"
+    return out
+
+
+# --- constant (rational) matrices, used by evaluation-based algorithms -------------
+
+
+def mat_from_rows(rows: Sequence[Sequence[flint.fmpq]], m: int, n: int) -> flint.fmpq_mat:
+    return flint.fmpq_mat(m, n, [c for row in rows for c in row])
+
+
+def mat_rank(a: flint.fmpq_mat) -> int:
+    return int(a.rank())
+
+
+def mat_det(a: flint.fmpq_mat) -> flint.fmpq:
+    return a.det()
+
+
+def mat_entries(a: flint.fmpq_mat) -> list[flint.fmpq]:
+    return list(a.entries())

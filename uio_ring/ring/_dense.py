@@ -1,0 +1,224 @@
+"""In-place kernels on dense matrices stored as ``list[list[fmpq_poly]]``.
+
+No validation happens here: every function states its precondition, and the
+façade (:mod:`uio_ring.ring.matrix`) or the algorithm modules check inputs.
+A matrix with ``m`` rows and ``n`` columns is a list of ``m`` lists of length
+``n``; a 0×n matrix cannot carry ``n`` in this form, so callers pass shapes.
+
+The degree of the zero polynomial is ``-1``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import flint
+
+from uio_ring.ring import _backend as bk
+
+Rows = list[list[flint.fmpq_poly]]
+
+__all__ = [
+    "Rows",
+    "copy",
+    "identity",
+    "zeros",
+    "matmul",
+    "transpose",
+    "row_axpy",
+    "row_scale",
+    "mat_degree",
+    "row_degree",
+    "leading_position",
+    "weak_popov",
+    "popov",
+    "reduce_rows",
+]
+
+
+def copy(a: Rows) -> Rows:
+    return [list(r) for r in a]
+
+
+def identity(n: int) -> Rows:
+    z, o = bk.ZERO, bk.ONE
+    return [[o if i == j else z for j in range(n)] for i in range(n)]
+
+
+def zeros(m: int, n: int) -> Rows:
+    z = bk.ZERO
+    return [[z] * n for _ in range(m)]
+
+
+def matmul(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
+    """``a @ b`` for a (m×k) and b (k×n). Precondition: shapes fit (not checked)."""
+    z = bk.ZERO
+    out = []
+    bt = [[b[t][j] for t in range(k)] for j in range(n)] if k else [[] for _ in range(n)]
+    for i in range(m):
+        ai = a[i]
+        nz = [t for t in range(k) if not ai[t].is_zero()]
+        row = []
+        for j in range(n):
+            col = bt[j]
+            s = z
+            for t in nz:
+                c = col[t]
+                if not c.is_zero():
+                    s = s + ai[t] * c
+            row.append(s)
+        out.append(row)
+    return out
+
+
+def transpose(a: Rows, m: int, n: int) -> Rows:
+    return [[a[i][j] for i in range(m)] for j in range(n)]
+
+
+def row_axpy(a: Rows, target: int, q: flint.fmpq_poly, source: int, start: int = 0) -> None:
+    """``a[target] -= q * a[source]`` on columns ``start:``. Precondition: target ≠ source."""
+    rt, rs = a[target], a[source]
+    for j in range(start, len(rt)):
+        s = rs[j]
+        if not s.is_zero():
+            rt[j] = rt[j] - q * s
+
+
+def row_scale(a: Rows, i: int, c: flint.fmpq_poly) -> None:
+    a[i] = [x * c for x in a[i]]
+
+
+def row_degree(row: Sequence[flint.fmpq_poly]) -> int:
+    return max((p.degree() for p in row), default=-1)
+
+
+def mat_degree(a: Rows) -> int:
+    return max((row_degree(r) for r in a), default=-1)
+
+
+def leading_position(row: Sequence[flint.fmpq_poly]) -> tuple[int, int]:
+    """``(degree, position)``: the row degree and the rightmost column attaining it
+    (``(-1, -1)`` for a zero row). Row-wise convention, zero shift."""
+    best_d, best_j = -1, -1
+    for j, p in enumerate(row):
+        dj = p.degree()
+        if dj >= best_d and dj >= 0:
+            best_d, best_j = dj, j
+    return best_d, best_j
+
+
+def weak_popov(a: Rows, u: Rows | None = None) -> list[int]:
+    """Bring the rows of ``a`` into weak Popov form in place (Mulders–Storjohann).
+
+    The same row operations are applied to ``u`` when given.  Rows that become
+    zero are moved to the end.  Returns the indices of the nonzero rows (they are
+    ``0..k-1`` after the call).  Precondition: ``u`` (if any) has as many rows as
+    ``a``.
+
+    Invariant: every operation is ``a[i] -= c·δ^e·a[k]`` with ``deg a[i] ≥ deg a[k]``
+    and the same leading position, which lowers the (degree, position) of row i.
+    """
+    while True:
+        seen: dict[int, int] = {}
+        conflict = None
+        for i, row in enumerate(a):
+            dg, j = leading_position(row)
+            if j < 0:
+                continue
+            if j in seen:
+                conflict = (seen[j], i, j)
+                break
+            seen[j] = i
+        if conflict is None:
+            break
+        k, i, j = conflict
+        dk, di = a[k][j].degree(), a[i][j].degree()
+        if di < dk:
+            i, k, di, dk = k, i, dk, di
+        c = bk.lc(a[i][j]) / bk.lc(a[k][j])
+        q = bk.monomial(c, di - dk)
+        row_axpy(a, i, q, k)
+        if u is not None:
+            row_axpy(u, i, q, k)
+    nonzero = [i for i, r in enumerate(a) if any(not p.is_zero() for p in r)]
+    zero = [i for i in range(len(a)) if i not in set(nonzero)]
+    order = nonzero + zero
+    a[:] = [a[i] for i in order]
+    if u is not None:
+        u[:] = [u[i] for i in order]
+    return list(range(len(nonzero)))
+
+
+def popov(a: Rows, u: Rows | None = None) -> None:
+    """Popov form (row-wise, zero shift) of a weak Popov matrix with nonzero rows, in place.
+
+    Afterwards: rows sorted by (pivot degree, pivot position), pivots monic, and
+    every entry in a pivot column has lower degree than that pivot (outside its
+    own row).  Precondition: ``a`` is in weak Popov form without zero rows.
+    """
+    info = sorted(range(len(a)), key=lambda i: leading_position(a[i]))
+    a[:] = [a[i] for i in info]
+    if u is not None:
+        u[:] = [u[i] for i in info]
+    pivots: list[tuple[int, int]] = []  # (position, degree) of processed rows
+    for i in range(len(a)):
+        reduce_rows(a, [i], pivots, u)
+        dg, j = leading_position(a[i])
+        c = bk.lc(a[i][j])
+        if c != 1:
+            inv = bk.const(1) / c
+            row_scale(a, i, inv)
+            if u is not None:
+                row_scale(u, i, inv)
+        pivots.append((j, dg))
+    # Earlier rows need no further reduction: their entries in a later pivot column
+    # have degree ≤ their own pivot degree, which is ≤ the later pivot degree, with
+    # equality excluded by the (degree, position) order.
+
+
+def reduce_rows(
+    a: Rows,
+    targets: Sequence[int],
+    pivots: Sequence[tuple[int, int] | None],
+    u: Rows | None = None,
+    basis: Rows | None = None,
+    basis_u: Rows | None = None,
+) -> None:
+    """Reduce rows ``targets`` of ``a`` modulo a Popov basis, in place.
+
+    ``pivots[r] = (position, degree)`` describes row ``r`` of the basis (rows of
+    ``a`` itself unless ``basis`` is given; ``None`` skips that row).  After the
+    call every target entry in a pivot column has lower degree than the pivot.
+    ``u``/``basis_u`` receive the same operations.  Precondition: the basis rows
+    are in Popov form (pivot columns of other basis rows have lower degree).
+
+    Terminates because each step removes the leading term of the entry with the
+    largest excess ``deg(x_j) − d_k``, and entries in other pivot columns of the
+    subtracted row have excess below it (Popov property).
+    """
+    src = a if basis is None else basis
+    src_u = u if basis_u is None else basis_u
+    for t in targets:
+        row = a[t]
+        while True:
+            best = None
+            for r, pv in enumerate(pivots):
+                if pv is None:
+                    continue
+                j, dk = pv
+                ex = row[j].degree() - dk
+                if ex >= 0 and (best is None or ex > best[0]):
+                    best = (ex, r, j)
+            if best is None:
+                break
+            ex, r, j = best
+            q = bk.monomial(bk.lc(row[j]) / bk.lc(src[r][j]), ex)
+            srow = src[r]
+            for c in range(len(row)):
+                if not srow[c].is_zero():
+                    row[c] = row[c] - q * srow[c]
+            if u is not None and src_u is not None:
+                urow, surow = u[t], src_u[r]
+                for c in range(len(urow)):
+                    if not surow[c].is_zero():
+                        urow[c] = urow[c] - q * surow[c]
