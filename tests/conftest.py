@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-from hypothesis import HealthCheck, settings
+from hypothesis import HealthCheck, Phase, settings
 
 _COMMON = dict(
     deadline=None,
@@ -23,7 +23,14 @@ _COMMON = dict(
     print_blob=True,
 )
 
-settings.register_profile("ci", max_examples=25, database=None, **_COMMON)
+# no database and no "explain" phase: a CI run writes nothing into the repository
+settings.register_profile(
+    "ci",
+    max_examples=25,
+    database=None,
+    phases=[p for p in Phase if p is not Phase.explain],
+    **_COMMON,
+)
 settings.register_profile("dev", max_examples=10, **_COMMON)
 settings.register_profile("thorough", max_examples=400, **_COMMON)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
