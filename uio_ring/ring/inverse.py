@@ -1,0 +1,119 @@
+"""Unimodularity predicates and one-sided inverses over Q[δ].
+
+A matrix M (m×n) is *left unimodular* when some polynomial X has ``X M = I_n``:
+equivalently rank n and every invariant factor 1 (M(δ) keeps full column rank
+for every complex δ).  *Right unimodular*: the same for the transpose.
+*Unimodular*: square with a nonzero constant determinant.
+
+>>> from uio_ring.ring.matrix import PolyMatrix
+>>> M = PolyMatrix("[[1, d], [0, 1], [d, 0]]")
+>>> X = left_inverse(M)
+>>> X @ M == PolyMatrix.identity(2), is_left_unimodular(M), is_unimodular(M)
+(True, True, False)
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
+from uio_ring.ring.errors import NotUnimodularError
+from uio_ring.ring.hermite import reduce_transform, row_echelon
+
+if TYPE_CHECKING:
+    from uio_ring.ring.matrix import PolyMatrix
+
+__all__ = ["is_unimodular", "is_left_unimodular", "is_right_unimodular", "left_inverse", "right_inverse"]
+
+
+def is_unimodular(M: PolyMatrix) -> bool:
+    """Square with determinant a nonzero constant (0×0 counts)."""
+    if M.rows != M.cols:
+        return False
+    return M.det().degree() == 0
+
+
+def _echelon_unit_pivots(M: PolyMatrix, u: dn.Rows | None) -> tuple[dn.Rows, list[int], bool]:
+    m, n = M.shape
+    a = dn.copy(M._r)
+    pivots = row_echelon(a, u, m, n)
+    units = len(pivots) == n and all(a[k][j].degree() == 0 for k, j in enumerate(pivots))
+    return a, pivots, units
+
+
+def is_left_unimodular(M: PolyMatrix) -> bool:
+    """True if ``X @ M == I`` has a polynomial solution X (rank n, invariant factors 1)."""
+    m, n = M.shape
+    if n > m:
+        return False
+    if n == 0:
+        return True
+    # the product of the echelon pivots is the gcd of the n×n minors, up to a unit
+    return _echelon_unit_pivots(M, None)[2]
+
+
+def is_right_unimodular(M: PolyMatrix) -> bool:
+    """True if ``M @ X == I`` has a polynomial solution X."""
+    return is_left_unimodular(M.T)
+
+
+def left_inverse(M: PolyMatrix) -> PolyMatrix:
+    """A polynomial X with ``X @ M == I`` (M m×n, left unimodular).
+
+    Returns the first n rows of a unimodular U with ``U M = [I; 0]``, reduced
+    modulo a Popov (minimal) basis of the left kernel of M: no leading term of
+    that basis divides the corresponding entry of X.  This keeps the δ-degree
+    low (in an observer, degree is delay).  For square M it is the inverse.
+
+    Raises
+    ------
+    NotUnimodularError
+        If M has rank < n, or loses rank at some δ (a non-unit invariant factor,
+        named in the message).
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> left_inverse(PolyMatrix("[[1, d], [0, 1]]"))
+    PolyMatrix([[1, -d], [0, 1]])
+    """
+    from uio_ring.ring.matrix import PolyMatrix
+
+    m, n = M.shape
+    u = dn.identity(m)
+    a, pivots, units = _echelon_unit_pivots(M, u)
+    if len(pivots) < n:
+        raise NotUnimodularError(
+            f"the {m}×{n} matrix has rank {len(pivots)} < {n} columns: no left inverse exists"
+        )
+    if not units:
+        from uio_ring.ring.smith import invariant_factors
+
+        bad = [f for f in invariant_factors(M) if f.degree() > 0]
+        raise NotUnimodularError(
+            f"the {m}×{n} matrix is not left unimodular: its invariant factor(s) "
+            f"{', '.join(str(f) for f in bad)} are not constants, so it loses rank where "
+            f"{' and '.join(f'{f} = 0' for f in bad)}"
+        )
+    # a[:n] is upper triangular with constant diagonal: finish to the identity
+    for k in range(n - 1, -1, -1):
+        inv = bk.const(1) / a[k][k][0]
+        a[k] = [x * inv for x in a[k]]
+        u[k] = [x * inv for x in u[k]]
+        for i in range(k):
+            q = a[i][k]
+            if not q.is_zero():
+                dn.row_axpy(a, i, q, k)
+                dn.row_axpy(u, i, q, k)
+    reduce_transform(u, n)
+    return PolyMatrix._new(u[:n], n, m, M.var)
+
+
+def right_inverse(M: PolyMatrix) -> PolyMatrix:
+    """A polynomial X with ``M @ X == I`` (M right unimodular); see :func:`left_inverse`.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix("[[1, d, 0], [0, 1, d]]")
+    >>> M @ right_inverse(M) == PolyMatrix.identity(2)
+    True
+    """
+    return left_inverse(M.T).T

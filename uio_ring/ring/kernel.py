@@ -1,0 +1,47 @@
+"""Left (and right) kernels over Q[δ] as minimal polynomial bases.
+
+``left_kernel(M)`` returns K whose rows are a basis of the module
+``{x ∈ Q[δ]^{1×m} : x M = 0}``.  The basis is in Popov form (row-wise, zero
+shift): row reduced, so its row degrees are the minimal indices (the smallest
+possible), pivots monic, rows sorted by degree.  It is saturated: K has a
+polynomial right inverse.
+
+>>> from uio_ring.ring.matrix import PolyMatrix
+>>> M = PolyMatrix("[[1], [d], [d**2]]")
+>>> K = left_kernel(M)
+>>> K, (K @ M).is_zero()
+(PolyMatrix([[d, -1, 0], [0, d, -1]]), True)
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from uio_ring.ring import _dense as dn
+from uio_ring.ring.hermite import reduce_transform, row_echelon
+
+if TYPE_CHECKING:
+    from uio_ring.ring.matrix import PolyMatrix
+
+__all__ = ["left_kernel", "right_kernel"]
+
+
+def left_kernel(M: PolyMatrix) -> PolyMatrix:
+    """Minimal (Popov) basis of the left kernel of M: rows x with ``x @ M == 0``.
+
+    Shape ``(M.rows − rank M) × M.rows``; a ``0 × M.rows`` matrix when M has full
+    row rank.
+    """
+    from uio_ring.ring.matrix import PolyMatrix
+
+    m, n = M.shape
+    a = dn.copy(M._r)
+    u = dn.identity(m)
+    r = len(row_echelon(a, u, m, n))
+    reduce_transform(u, r)
+    return PolyMatrix._new(u[r:], m - r, m, M.var)
+
+
+def right_kernel(M: PolyMatrix) -> PolyMatrix:
+    """Columns x with ``M @ x == 0``: the transpose of ``left_kernel(M.T)``."""
+    return left_kernel(M.T).T

@@ -1,0 +1,104 @@
+"""Solving ``X·V = W`` over Q[δ].
+
+With ``U V = H`` (row echelon, r nonzero rows, pivots p_k) every solution is
+``X = Y U`` with ``Y_[:, :r] H_[:r] = W`` and ``Y_[:, r:]`` free.  The first part
+is solved by back substitution along the pivots, which needs exact polynomial
+divisions; a remainder anywhere means no polynomial solution.  The returned X
+is reduced modulo a Popov basis of the left kernel of V (low δ-degree).
+
+>>> from uio_ring.ring.matrix import PolyMatrix
+>>> V = PolyMatrix("[[1, d], [0, d + 1]]")
+>>> W = PolyMatrix("[[1, 2*d + 1]]")
+>>> X = solve_left(V, W)
+>>> X, X @ V == W
+(PolyMatrix([[1, 1]]), True)
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
+from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
+from uio_ring.ring.hermite import reduce_transform, row_echelon
+
+if TYPE_CHECKING:
+    from uio_ring.ring.matrix import PolyMatrix
+
+__all__ = ["solve_left", "solve_right"]
+
+
+def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
+    """A polynomial X with ``X @ V == W``.
+
+    Parameters
+    ----------
+    V : PolyMatrix
+        k×n.
+    W : PolyMatrix
+        m×n (same number of columns as V).
+
+    Returns
+    -------
+    PolyMatrix
+        X (m×k), reduced modulo a minimal (Popov) basis of the left kernel of V,
+        so that among the solutions it has low degree.
+
+    Raises
+    ------
+    DimensionError
+        V and W have different numbers of columns.
+    NoPolynomialSolutionError
+        No polynomial X exists (the message names the row of W and whether the
+        obstruction is rank or divisibility).
+    """
+    from uio_ring.ring.matrix import PolyMatrix
+
+    V._check("solve_left", W)
+    k, n = V.shape
+    m, n2 = W.shape
+    if n != n2:
+        raise DimensionError(
+            f"solve_left: V is {k}×{n} and W is {m}×{n2}; X·V = W needs the same number of columns"
+        )
+    a = dn.copy(V._r)
+    u = dn.identity(k)
+    pivots = row_echelon(a, u, k, n)
+    r = len(pivots)
+    reduce_transform(u, r)
+    # the kernel rows of u are untouched by the echelon rows: a[:r] still equals u[:r] @ V
+    y = []
+    for i in range(m):
+        w = list(W._r[i])
+        coeff = []
+        for t, j in enumerate(pivots):
+            q, rem = divmod(w[j], a[t][j])
+            if not rem.is_zero():
+                raise NoPolynomialSolutionError(
+                    f"solve_left: row {i} of W is not a polynomial combination of the rows of V "
+                    f"(division by the pivot {bk.to_str(a[t][j], V.var)} in column {j} leaves a remainder)"
+                )
+            coeff.append(q)
+            if not q.is_zero():
+                row = a[t]
+                for c in range(j, n):
+                    if not row[c].is_zero():
+                        w[c] = w[c] - q * row[c]
+        if any(not p.is_zero() for p in w):
+            raise NoPolynomialSolutionError(
+                f"solve_left: row {i} of W is not in the row space of V over Q(δ) "
+                f"(rank of V is {r}; the residual is nonzero)"
+            )
+        y.append(coeff)
+    x = dn.matmul(y, u[:r], m, r, k) if r else dn.zeros(m, k)
+    if r < k:
+        kern = u[r:]
+        pivs = [dn.leading_position(row)[::-1] for row in kern]
+        dn.reduce_rows(x, range(m), pivs, basis=kern)
+    return PolyMatrix._new(x, m, k, V.var)
+
+
+def solve_right(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
+    """A polynomial X with ``V @ X == W``: the transpose of ``solve_left(V.T, W.T)``."""
+    return solve_left(V.T, W.T).T
