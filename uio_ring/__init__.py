@@ -21,7 +21,7 @@ __version__ = "0.1.0"
 _LAZY: dict[str, str] = {
     # ring (issue 2)
     "PolyMatrix": "uio_ring.ring.matrix",
-    "Poly": "uio_ring.ring.matrix",
+    "Poly": "uio_ring.ring.poly",
     "hermite": "uio_ring.ring.hermite",
     "HermiteResult": "uio_ring.ring.hermite",
     "is_hermite": "uio_ring.ring.hermite",
@@ -36,6 +36,8 @@ _LAZY: dict[str, str] = {
     "is_right_unimodular": "uio_ring.ring.inverse",
     "left_kernel": "uio_ring.ring.kernel",
     "solve_left": "uio_ring.ring.solve",
+    "solve_right": "uio_ring.ring.solve",
+    "right_kernel": "uio_ring.ring.kernel",
     "Certificate": "uio_ring.ring.certificate",
     "Check": "uio_ring.ring.certificate",
     # errors
