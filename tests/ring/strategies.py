@@ -295,3 +295,52 @@ def column_leading_matrix_rank(M: PolyMatrix) -> int:
     if not data or not data[0]:
         return 0
     return sp.Matrix(data).rank()
+
+
+def assert_popov(K: PolyMatrix) -> None:
+    """Row-wise Popov form (zero shift): each nonzero row's pivot is its rightmost entry of
+    maximal degree; pivots monic, in distinct columns; every other entry in a pivot's column
+    has lower degree than the pivot; rows sorted by nondecreasing degree.  A Popov matrix is
+    row reduced (its leading coefficient matrix has full row rank)."""
+    rows = K.tolist()
+    pcols: list[int] = []
+    degs: list[int] = []
+    for i, row in enumerate(rows):
+        dg = max((e.degree() for e in row), default=-1)
+        assert dg >= 0, f"row {i} of the basis is zero"
+        j = max(c for c, e in enumerate(row) if e.degree() == dg)
+        assert row[j].coeffs()[-1] == 1, f"Popov pivot K[{i},{j}] = {row[j]} not monic"
+        pcols.append(j)
+        degs.append(dg)
+    assert len(set(pcols)) == len(pcols), f"pivot columns {pcols} repeat"
+    for i, j in enumerate(pcols):
+        for k in range(len(rows)):
+            if k != i:
+                assert rows[k][j].degree() < degs[i], (
+                    f"K[{k},{j}] = {rows[k][j]} not of lower degree than pivot K[{i},{j}]")
+    assert degs == sorted(degs), f"row degrees {degs} not sorted"
+    # row reduced: leading coefficient matrix of full row rank
+    if rows:
+        lead = [[e.coeffs()[dg] if e.degree() == dg else Fraction(0) for e in row]
+                for row, dg in zip(rows, degs, strict=True)]
+        assert sp.Matrix(lead).rank() == len(rows), "basis not row reduced"
+
+
+# ----------------------------------------------------------------------------
+# paper 001 (Zheng, Bejarano, Perruquetti, Richard), Section 5: A, B, C, D as printed
+# ----------------------------------------------------------------------------
+def paper_001_system() -> dict[str, PolyMatrix]:
+    """A(δ), B(δ), C(δ), D(δ) of the illustrative example (none listed in ERRATA.md)."""
+    return {
+        "A": PolyMatrix("[[0, -1, 1, 0], [-1, δ, 0, 0], [1, 0, 1, 0], [δ, 1, 1, -1]]"),
+        "B": PolyMatrix("[[0, 0], [0, 0], [1, 1], [0, δ]]"),
+        "C": PolyMatrix("[[δ, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 1]]"),
+        "D": PolyMatrix("[[1, δ], [0, 0], [1, δ]]"),
+    }
+
+
+def paper_001_M() -> PolyMatrix:
+    """Step 1's matrix M = [[C B, D], [D, 0]] (6×4), computed from the system."""
+    s = paper_001_system()
+    C, B, D = s["C"], s["B"], s["D"]
+    return PolyMatrix.block([[C @ B, D], [D, PolyMatrix.zeros(D.rows, D.cols)]])

@@ -1,0 +1,227 @@
+"""Normalised row Hermite form: identities, uniqueness, degree bounds, edge cases.
+
+H is unique (normalised: zero rows last, pivots strictly right of the pivot
+above, monic, entries above a pivot of lower degree), so H is compared by
+value.  U is a choice except when M is square nonsingular (U = H M⁻¹); tests
+check its identities, never its entries.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from uio_ring import PolyMatrix, hermite, is_hermite, is_unimodular, left_kernel
+
+from .strategies import (
+    P,
+    assert_hermite_normalised,
+    assert_popov,
+    assert_unimodular,
+    dense_matrices,
+    matrices,
+    paper_001_M,
+    reference_rank,
+    row_degrees,
+    unimodular_matrices,
+)
+
+
+def check_hermite(M: PolyMatrix):
+    h = hermite(M)
+    assert h.H.shape == M.shape
+    assert h.U.shape == (M.rows, M.rows)
+    assert h.U @ M == h.H
+    assert is_hermite(h.H)
+    assert_hermite_normalised(h.H, h.pivots, h.rank)
+    assert_unimodular(h.U, M.rows)
+    assert is_unimodular(h.U)
+    assert h.verify(M).ok
+    return h
+
+
+# ----------------------------------------------------------------------------
+# properties on random matrices
+# ----------------------------------------------------------------------------
+@given(matrices())
+def test_hermite_identities(M):
+    h = check_hermite(M)
+    assert h.rank == M.rank()
+    assert all(isinstance(p, int) for p in h.pivots) and isinstance(h.pivots, tuple)
+
+
+@given(matrices(max_rows=5, max_cols=5))
+def test_hermite_rank_matches_sympy(M):
+    assert hermite(M).rank == reference_rank(M)
+
+
+@given(matrices())
+def test_hermite_is_idempotent(M):
+    H = hermite(M).H
+    h2 = check_hermite(H)
+    assert h2.H == H
+
+
+@given(st.data())
+def test_hermite_form_is_unique_under_unimodular_row_operations(data):
+    M = data.draw(matrices())
+    Q = data.draw(unimodular_matrices(M.rows))
+    assert_unimodular(Q, M.rows)
+    assert hermite(Q @ M).H == hermite(M).H
+
+
+@given(matrices())
+def test_kernel_part_of_transform(M):
+    """Rows rank.. of U annihilate M and (as documented) form the Popov basis of the
+    left kernel, which is unique — so they equal left_kernel(M)."""
+    h = hermite(M)
+    K = h.U[h.rank:, :]
+    assert (K @ M).is_zero()
+    assert K.rows == M.rows - h.rank
+    assert_popov(K)
+    assert K == left_kernel(M)
+
+
+@given(st.integers(1, 5).flatmap(lambda n: dense_matrices(rows=n, cols=n, max_degree=2)))
+def test_transform_degree_bound_for_nonsingular_square(M):
+    """For square nonsingular M the transform is unique, U = H·adj(M)/det(M), so
+
+        deg U[i, :] <= deg H[i, :] + (n − 1)·deg M − deg det M      (row by row)
+
+    and, since deg H <= deg det M (each column's pivot divides det M and entries
+    above a pivot have lower degree), deg U <= (n − 1)·deg M."""
+    n = M.rows
+    det = M.det()
+    if det.degree() < 0:
+        return  # singular: U is not unique, no bound from the mathematics
+    h = check_hermite(M)
+    dM = M.degree()
+    assert h.H.degree() <= det.degree()
+    assert h.U.degree() <= (n - 1) * dM
+    for i, (du, dh) in enumerate(zip(row_degrees(h.U), row_degrees(h.H), strict=True)):
+        assert du <= dh + (n - 1) * dM - det.degree(), f"row {i}: deg U = {du}"
+
+
+# ----------------------------------------------------------------------------
+# fixed examples
+# ----------------------------------------------------------------------------
+def test_style_guide_example():
+    M = PolyMatrix([["d**2", "d"], ["d", 1]])
+    h = check_hermite(M)
+    assert h.H == PolyMatrix("[[d, 1], [0, 0]]")
+    assert h.rank == 1 and h.pivots == (0,)
+
+
+def test_convention_is_U_times_M():
+    """An input where U·M and U⁻¹·M differ (STYLE: examples must tell conventions apart)."""
+    M = PolyMatrix("[[d, 1], [d**2 + 1, d]]")  # det = -1: unimodular, H = I
+    h = check_hermite(M)
+    assert h.H == PolyMatrix.identity(2)
+    assert h.U @ M == PolyMatrix.identity(2)
+    assert M @ h.U == PolyMatrix.identity(2)  # U = M⁻¹ here
+    N = PolyMatrix("[[d, 0], [1, d + 1]]")
+    hN = check_hermite(N)
+    assert hN.H == PolyMatrix("[[1, d + 1], [0, d**2 + d]]")
+
+
+def test_known_forms():
+    cases = [
+        ("[[2*d, 4]]", "[[d, 2]]"),
+        ("[[0, 0, 3]]", "[[0, 0, 1]]"),
+        ("[[d], [d**2 - 1]]", "[[1], [0]]"),
+        ("[[d, 0], [0, d]]", "[[d, 0], [0, d]]"),
+        ("[[d + 1, d**3], [0, d]]", "[[d + 1, 0], [0, d]]"),
+        ("[[0, d], [0, 0], [0, 2*d]]", "[[0, d], [0, 0], [0, 0]]"),
+    ]
+    for m, hform in cases:
+        assert check_hermite(PolyMatrix(m)).H == PolyMatrix(hform), m
+
+
+@pytest.mark.parametrize("shape", [(0, 0), (0, 3), (3, 0), (3, 3), (2, 4), (4, 2)])
+def test_empty_and_zero_matrices(shape):
+    Z = PolyMatrix.zeros(*shape)
+    h = check_hermite(Z)
+    assert h.H == Z and h.rank == 0 and h.pivots == ()
+
+
+def test_rank_deficient():
+    a = PolyMatrix("[[1, d], [d - 1, 2], [0, 1]]")
+    b = PolyMatrix("[[d, 1, 0, d**2], [1, 0, d, 1]]")
+    c = PolyMatrix("[[1], [d], [2]]")
+    M = PolyMatrix.hstack(a @ b, c)  # 3×5, rank <= 3
+    h = check_hermite(M)
+    assert h.rank == M.rank() == reference_rank(M)
+    N = a @ b  # 3×4 of rank 2
+    hN = check_hermite(N)
+    assert hN.rank == 2
+    assert hN.H[2, :].is_zero()
+
+
+def test_paper_001_step_1():
+    """Zheng et al. §5, Step 1: M = [[CB, D], [D, 0]] has rank 3 and its normalised
+    Hermite form is V = [[1,0,0,0],[0,1,0,0],[0,0,1,δ]] on top of three zero rows.
+    (ERRATA: V is unique; the printed U is a choice and is not compared.)"""
+    M = paper_001_M()
+    assert M.shape == (6, 4)
+    h = check_hermite(M)
+    V = PolyMatrix("[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, δ]]")
+    assert h.rank == 3
+    assert h.H == PolyMatrix.vstack(V, PolyMatrix.zeros(3, 4))
+    assert h.pivots == (0, 1, 2)
+
+
+# ----------------------------------------------------------------------------
+# predicate, result object
+# ----------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("[[1, d], [0, d**2]]", True),
+        ("[[0, 1], [1, 0]]", False),  # pivot not right of the one above
+        ("[[2, 0], [0, 1]]", False),  # pivot not monic
+        ("[[1, d**2], [0, d**2]]", False),  # entry above pivot not of lower degree
+        ("[[1, d**3], [0, d**2]]", False),
+        ("[[0, 0], [1, 0]]", False),  # zero row not last
+        ("[[1, 0], [0, 0]]", True),
+        ("[[0, d, 1]]", True),
+        ("[[d, 1], [0, 0], [0, 0]]", True),
+        ("[[1, 1/2], [0, d]]", True),
+    ],
+)
+def test_is_hermite(text, expected):
+    assert is_hermite(PolyMatrix(text)) is expected
+
+
+@pytest.mark.parametrize("shape", [(0, 0), (0, 2), (2, 0)])
+def test_is_hermite_empty(shape):
+    assert is_hermite(PolyMatrix.zeros(*shape))
+
+
+def test_result_is_frozen_and_not_a_tuple():
+    M = PolyMatrix("[[d, 1], [1, 0]]")
+    h = hermite(M)
+    with pytest.raises(AttributeError):  # dataclasses.FrozenInstanceError is one
+        h.H = M  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        iter(h)
+    with pytest.raises(TypeError):
+        H, U = h  # noqa: F841
+
+
+def test_verify_detects_a_wrong_claim():
+    M = PolyMatrix("[[d, 1], [d**2, d + 1]]")
+    h = hermite(M)
+    assert h.verify(M).ok
+    wrong = dataclasses.replace(h, H=h.H + PolyMatrix("[[0, 1], [0, 0]]"))
+    assert not wrong.verify(M).ok
+    not_unimodular = dataclasses.replace(h, U=PolyMatrix.diag("d", 1) @ h.U)
+    assert not not_unimodular.verify(M).ok
+    assert not h.verify(M + PolyMatrix.identity(2)).ok
+
+
+def test_scalar_entry_type():
+    h = hermite(PolyMatrix("[[2*d + 2]]"))
+    assert h.H[0, 0] == P("d + 1")
