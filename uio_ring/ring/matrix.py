@@ -57,6 +57,10 @@ class PolyMatrix:
     """
 
     __slots__ = ("_r", "_m", "_n", "var")
+    _r: dn.Rows
+    _m: int
+    _n: int
+    var: str
     _is_polymatrix = True
 
     def __init__(self, data: Any, var: str = "d", *, shape: tuple[int, int] | None = None):

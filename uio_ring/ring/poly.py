@@ -104,6 +104,8 @@ class Poly:
     """A polynomial in ``var`` (default δ, written ``d``) with rational coefficients."""
 
     __slots__ = ("_p", "var")
+    _p: flint.fmpq_poly
+    var: str
 
     def __init__(self, value: Any = 0, var: str = "d"):
         var = canonical_var(var)
@@ -167,7 +169,8 @@ class Poly:
         """Numerical roots (complex floats) — for display, never for decisions."""
         if self._p.degree() <= 0:
             return []
-        return [complex(r) for r, mult in self._p.complex_roots() for _ in range(mult)]
+        found: Any = self._p.complex_roots()  # [(acb, multiplicity), ...]
+        return [complex(r) for r, mult in found for _ in range(mult)]
 
     def to_sympy(self, var: str | None = None) -> Any:
         import sympy

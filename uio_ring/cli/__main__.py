@@ -1,0 +1,5 @@
+import sys
+
+from uio_ring.cli import main
+
+sys.exit(main())
