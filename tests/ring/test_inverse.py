@@ -1,0 +1,212 @@
+"""Unimodularity predicates and one-sided inverses.
+
+Left inverses of a tall matrix are not unique (X + Y K for any Y, K the left
+kernel); tests check X M = I and degree bounds that the mathematics guarantees
+for a left inverse reduced modulo a Popov basis of the kernel (see
+``test_left_inverse_degree_bound``), never the entries.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import event, given
+from hypothesis import strategies as st
+
+from uio_ring import (
+    NotUnimodularError,
+    PolyMatrix,
+    UioRingError,
+    invariant_factors,
+    is_left_unimodular,
+    is_right_unimodular,
+    is_unimodular,
+    left_inverse,
+    left_kernel,
+    right_inverse,
+)
+
+from .strategies import (
+    assert_unimodular,
+    column_leading_matrix_rank,
+    dense_matrices,
+    matrices,
+    reference_det,
+    square_matrices,
+    unimodular_matrices,
+)
+
+
+@given(st.integers(0, 6).flatmap(lambda n: unimodular_matrices(n, max_degree=2)))
+def test_inverse_of_unimodular(U):
+    n = U.rows
+    assert_unimodular(U)
+    assert is_unimodular(U) and is_left_unimodular(U) and is_right_unimodular(U)
+    X = left_inverse(U)
+    assert X @ U == PolyMatrix.identity(n) == U @ X
+    assert right_inverse(U) == X  # the two-sided inverse is unique
+    # U⁻¹ = adj(U)/det U with det U constant: deg U⁻¹ <= (n − 1) deg U
+    assert X.degree() <= max(0, (n - 1) * U.degree())
+
+
+@given(square_matrices(max_n=5))
+def test_is_unimodular_is_constant_nonzero_det(M):
+    det = reference_det(M)
+    assert is_unimodular(M) == (det.degree() == 0 and not det.is_zero)
+
+
+@given(matrices())
+def test_one_sided_unimodularity_definition(M):
+    """left unimodular ⇔ rank = columns and all invariant factors are 1."""
+    fs = invariant_factors(M)
+    left = len(fs) == M.cols and all(f == 1 for f in fs)
+    right = len(fs) == M.rows and all(f == 1 for f in fs)
+    assert is_left_unimodular(M) == left
+    assert is_right_unimodular(M) == right
+    if left:
+        X = left_inverse(M)
+        assert X.shape == (M.cols, M.rows)
+        assert X @ M == PolyMatrix.identity(M.cols)
+    else:
+        with pytest.raises(NotUnimodularError):
+            left_inverse(M)
+    if right:
+        Y = right_inverse(M)
+        assert Y.shape == (M.cols, M.rows)
+        assert M @ Y == PolyMatrix.identity(M.rows)
+    else:
+        with pytest.raises(NotUnimodularError):
+            right_inverse(M)
+
+
+@st.composite
+def tall_left_unimodular(draw):
+    """First m columns of a random n×n unimodular matrix (n > m): left unimodular."""
+    n = draw(st.integers(2, 6))
+    m = draw(st.integers(1, n - 1))
+    U = draw(unimodular_matrices(n, max_degree=2))
+    return U[:, :m]
+
+
+@given(tall_left_unimodular())
+def test_left_inverse_of_tall(M):
+    assert is_left_unimodular(M) and not is_right_unimodular(M)
+    X = left_inverse(M)
+    assert X @ M == PolyMatrix.identity(M.cols)
+    Y = right_inverse(M.T)
+    assert M.T @ Y == PolyMatrix.identity(M.cols)
+
+
+@given(st.data())
+def test_left_inverse_degree_bound(data):
+    """Degree bound for a left inverse reduced modulo the Popov kernel basis.
+
+    Let M be n×m left unimodular and *column reduced* (column degrees c_j, column
+    leading coefficient matrix M_hc of rank m), and K the Popov basis of its left kernel
+    (row degrees ν_k).  If a row x of X has degree t >= 1, comparing the coefficients of
+    δ^(t + c_j) in x M = e_i gives x_t M_hc = 0; comparing those of δ^(ν_k + c_j) in
+    K M = 0 gives K_hc M_hc = 0, so rowspan K_hc = left kernel of M_hc ∋ x_t.  A row
+    reduced modulo a Popov K has deg x_p < ν_k at every pivot column p of K; when
+    t >= max ν this makes x_t vanish at all pivot columns, and no nonzero combination of
+    K_hc's rows does.  Hence
+
+        deg X <= max(0, max ν − 1) <= max(0, Σ c_j − 1) <= max(0, m·deg M − 1)
+
+    (Σ ν = degree of the maximal minors = Σ c_j for column-reduced, left-prime M).
+    """
+    n = data.draw(st.integers(2, 6))
+    m = data.draw(st.integers(1, n - 1))
+    M = data.draw(dense_matrices(rows=n, cols=m, max_degree=2, rational=False))
+    cdeg = [max(e.degree() for e in col) for col in M.T.tolist()]
+    colreduced = min(cdeg) >= 0 and column_leading_matrix_rank(M) == m
+    if not (colreduced and is_left_unimodular(M)):
+        event("bound not applicable (not column reduced or not left unimodular)")
+        return
+    event("bound applies")
+    X = left_inverse(M)
+    assert X @ M == PolyMatrix.identity(m)
+    K = left_kernel(M)
+    nu = [max(e.degree() for e in row) for row in K.tolist()]
+    assert sum(nu) == sum(cdeg)
+    assert X.degree() <= max(0, max(nu, default=0) - 1)
+    assert X.degree() <= max(0, sum(cdeg) - 1)
+    assert X.degree() <= max(0, m * M.degree() - 1)
+
+
+@pytest.mark.parametrize(
+    "text, pattern",
+    [
+        ("[[d], [d**2]]", r"\bd\b"),  # invariant factor d: loses rank at d = 0
+        ("[[d + 1], [d**2 - 1]]", r"d \+ 1"),
+        ("[[1, 1], [1, 1]]", r"rank 1"),
+        ("[[1, d, 0]]", r"rank|column"),  # wide: rank 1 < 3 columns
+        ("[[d, 0], [0, 1]]", r"\bd\b"),
+    ],
+)
+def test_not_left_unimodular_names_the_obstruction(text, pattern):
+    M = PolyMatrix(text)
+    assert not is_left_unimodular(M)
+    with pytest.raises(NotUnimodularError, match=pattern) as info:
+        left_inverse(M)
+    assert isinstance(info.value, ArithmeticError) and isinstance(info.value, UioRingError)
+
+
+def test_right_inverse_errors():
+    with pytest.raises(NotUnimodularError, match=r"\bd\b"):
+        right_inverse(PolyMatrix("[[d, d**2]]"))
+    with pytest.raises(NotUnimodularError):
+        right_inverse(PolyMatrix("[[1], [d]]"))
+
+
+def test_documented_examples():
+    M = PolyMatrix("[[1, d], [0, 1], [d, 0]]")
+    X = left_inverse(M)
+    assert X @ M == PolyMatrix.identity(2)
+    W = PolyMatrix("[[1, d, 0], [0, 1, d]]")
+    assert W @ right_inverse(W) == PolyMatrix.identity(2)
+
+
+@pytest.mark.parametrize("shape", [(0, 0), (3, 0)])
+def test_empty_left_inverse(shape):
+    M = PolyMatrix.zeros(*shape)
+    assert is_left_unimodular(M)
+    X = left_inverse(M)
+    assert X.shape == (0, shape[0])
+    assert X @ M == PolyMatrix.identity(0)
+
+
+def test_empty_right_inverse():
+    M = PolyMatrix.zeros(0, 3)
+    assert is_right_unimodular(M) and not is_left_unimodular(M)
+    assert right_inverse(M).shape == (3, 0)
+    with pytest.raises(NotUnimodularError):
+        left_inverse(M)
+
+
+@pytest.mark.parametrize("shape", [(2, 2), (3, 2), (2, 3)])
+def test_zero_matrix_is_not_one_sided_unimodular(shape):
+    Z = PolyMatrix.zeros(*shape)
+    assert not is_left_unimodular(Z) and not is_right_unimodular(Z) and not is_unimodular(Z)
+    with pytest.raises(NotUnimodularError):
+        left_inverse(Z)
+    with pytest.raises(NotUnimodularError):
+        right_inverse(Z)
+
+
+def test_rank_deficient_square():
+    M = PolyMatrix("[[1, d], [d, d**2]]")
+    assert not is_unimodular(M)
+    with pytest.raises(NotUnimodularError, match="rank"):
+        left_inverse(M)
+
+
+def test_paper_001_observability_matrix_left_inverse():
+    """§5 Step 3: Ō_3 (6×4) is left unimodular; the printed left inverse is one choice
+    (ERRATA: choice-dependent), so only X Ō_3 = I is checked."""
+    O3 = PolyMatrix("[[0, 1, 0, 0], [-δ, 0, 1, 1], [-1, δ, 0, 0], [-δ, 0, 1, 1], "
+                    "[-δ, 1 + δ**2, -1, 0], [-δ, 0, 1, 1]]")
+    assert is_left_unimodular(O3)
+    X = left_inverse(O3)
+    assert X @ O3 == PolyMatrix.identity(4)
+    printed = PolyMatrix("[[δ, 0, -1, 0, 0, 0], [1, 0, 0, 0, 0, 0], [1, 0, δ, 0, -1, 0], "
+                         "[δ**2 - 1, 1, -2*δ, 0, 1, 0]]")
+    assert printed @ O3 == PolyMatrix.identity(4)  # the paper's choice is valid too

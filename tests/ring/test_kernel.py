@@ -1,0 +1,109 @@
+"""Left kernel: K M = 0, K a basis (full row rank, right count), saturated, Popov.
+
+A basis of the left kernel is not unique in general, but its documented
+normalisation (row-wise Popov form, zero shift) is; the tests check the
+normalisation entry by entry rather than pinning values.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from uio_ring import (
+    PolyMatrix,
+    invariant_factors,
+    is_right_unimodular,
+    left_kernel,
+    right_inverse,
+    solve_left,
+)
+
+from .strategies import (
+    assert_popov,
+    dense_matrices,
+    matrices,
+    paper_001_M,
+    reference_rank,
+)
+
+
+def check_left_kernel(M: PolyMatrix) -> PolyMatrix:
+    K = left_kernel(M)
+    r = M.rank()
+    assert K.shape == (M.rows - r, M.rows)
+    assert (K @ M).is_zero()
+    assert K.rank() == K.rows  # rows independent
+    # saturated (left prime / the row module is a direct summand): invariant factors all 1,
+    # equivalently K has a polynomial right inverse
+    assert invariant_factors(K) == (1,) * K.rows
+    assert is_right_unimodular(K)
+    assert K @ right_inverse(K) == PolyMatrix.identity(K.rows)
+    assert_popov(K)
+    return K
+
+
+@given(matrices())
+def test_left_kernel_properties(M):
+    check_left_kernel(M)
+
+
+@given(matrices(max_rows=5, max_cols=5))
+def test_left_kernel_dimension_matches_sympy_rank(M):
+    assert left_kernel(M).rows == M.rows - reference_rank(M)
+
+
+@given(st.data())
+def test_left_kernel_spans_known_relations(data):
+    """M = [A; Y A]: every row of [−Y, I] is in the left kernel, so it must be a polynomial
+    combination of the basis rows (completeness over Q[δ], not only over Q(δ))."""
+    p = data.draw(st.integers(0, 4))
+    q = data.draw(st.integers(0, 4))
+    k = data.draw(st.integers(1, 3))
+    A = data.draw(dense_matrices(rows=p, cols=q, max_degree=2))
+    Y = data.draw(dense_matrices(rows=k, cols=p, max_degree=2))
+    M = PolyMatrix.vstack(A, Y @ A)
+    K = check_left_kernel(M)
+    R = PolyMatrix.hstack(-Y, PolyMatrix.identity(k))
+    assert (R @ M).is_zero()
+    X = solve_left(K, R)
+    assert X @ K == R
+
+
+@pytest.mark.parametrize(
+    "shape, krows",
+    [((0, 0), 0), ((0, 3), 0), ((3, 0), 3), ((3, 3), 3), ((2, 4), 2), ((4, 2), 4)],
+)
+def test_empty_and_zero_matrices(shape, krows):
+    K = check_left_kernel(PolyMatrix.zeros(*shape))
+    assert K.shape == (krows, shape[0])
+    assert K == PolyMatrix.identity(shape[0])  # the Popov basis of the whole space
+
+
+def test_full_row_rank_has_empty_kernel():
+    M = PolyMatrix("[[1, d, 0], [0, d, 1]]")
+    K = check_left_kernel(M)
+    assert K.shape == (0, 2)
+
+
+def test_known_kernels():
+    M = PolyMatrix("[[1], [d], [d**2]]")
+    K = check_left_kernel(M)
+    assert [max(e.degree() for e in row) for row in K.tolist()] == [1, 1]  # minimal indices
+    N = PolyMatrix("[[d, 1], [2*d, 2], [d**2, d]]")  # rank 1
+    KN = check_left_kernel(N)
+    assert KN.rows == 2
+
+
+def test_rank_deficient():
+    a = PolyMatrix("[[1, d], [d - 1, 2], [0, 1], [d, d**2]]")
+    b = PolyMatrix("[[d, 1, 0], [1, 0, d + 1]]")
+    K = check_left_kernel(a @ b)
+    assert K.rows == 2
+
+
+def test_paper_001_kernel():
+    """M = [[CB, D], [D, 0]] has rank 3, so its left kernel has 6 − 3 = 3 rows."""
+    K = check_left_kernel(paper_001_M())
+    assert K.shape == (3, 6)

@@ -1,0 +1,215 @@
+"""Smith form: U M V = S, invariant factors against sympy and known constructions.
+
+The invariant factors (monic, each dividing the next, as many as the rank)
+are unique and compared by value; U and V are choices and only their
+identities are checked.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from uio_ring import PolyMatrix, invariant_factors, is_smith, is_unimodular, smith
+
+from .strategies import (
+    P,
+    assert_smith_form,
+    assert_unimodular,
+    matrices,
+    paper_001_M,
+    paper_001_system,
+    reference_det,
+    reference_invariant_factors,
+    reference_rank,
+    same_poly,
+    square_matrices,
+    to_sympy_poly,
+    unimodular_matrices,
+)
+
+
+def check_smith(M: PolyMatrix):
+    s = smith(M)
+    assert s.S.shape == M.shape
+    assert s.U.shape == (M.rows, M.rows) and s.V.shape == (M.cols, M.cols)
+    assert s.U @ M @ s.V == s.S
+    assert is_smith(s.S)
+    assert isinstance(s.invariant_factors, tuple)
+    assert_smith_form(s.S, s.invariant_factors)
+    assert_unimodular(s.U, M.rows)
+    assert_unimodular(s.V, M.cols)
+    assert is_unimodular(s.U) and is_unimodular(s.V)
+    assert len(s.invariant_factors) == M.rank()
+    assert s.verify(M).ok
+    return s
+
+
+# ----------------------------------------------------------------------------
+# properties
+# ----------------------------------------------------------------------------
+@given(matrices())
+def test_smith_identities(M):
+    s = check_smith(M)
+    assert invariant_factors(M) == s.invariant_factors
+
+
+@given(matrices(max_rows=5, max_cols=5))
+def test_invariant_factors_match_sympy(M):
+    """sympy.matrices.normalforms.invariant_factors over QQ[d] is an independent
+    implementation; its nonzero factors, made monic, must equal ours."""
+    ours = invariant_factors(M)
+    ref = reference_invariant_factors(M)
+    assert len(ours) == len(ref) == reference_rank(M)
+    assert [to_sympy_poly(f) for f in ours] == ref
+
+
+@given(square_matrices(max_n=5))
+def test_product_of_invariant_factors_is_monic_det(M):
+    fs = invariant_factors(M)
+    det = reference_det(M)
+    if det.is_zero:
+        assert len(fs) < M.rows
+    else:
+        prod = P("1")
+        for f in fs:
+            prod = prod * f
+        assert same_poly(prod, det.monic())
+        assert same_poly(M.det().monic(), det.monic())
+
+
+@given(st.data())
+def test_invariant_factors_are_invariant_under_equivalence(data):
+    M = data.draw(matrices(max_rows=5, max_cols=5))
+    Pm = data.draw(unimodular_matrices(M.rows))
+    Q = data.draw(unimodular_matrices(M.cols))
+    assert invariant_factors(Pm @ M @ Q) == invariant_factors(M)
+    assert invariant_factors(M.T) == invariant_factors(M)
+
+
+@st.composite
+def known_smith(draw):
+    """P·diag(1, …, 1, [d+1], [(d+1)(d−2)], 0…)·Q with random unimodular P, Q (any shape)."""
+    p = draw(st.integers(1, 6))
+    q = draw(st.integers(1, 6))
+    r = draw(st.integers(0, min(p, q)))
+    k = draw(st.integers(0, min(r, 2)))  # how many non-trivial factors
+    if k == 2:
+        tail = ["d + 1", "(d + 1)*(d - 2)"]  # d+1 divides (d+1)(d-2)
+    elif k == 1:
+        tail = [draw(st.sampled_from(["d + 1", "(d + 1)*(d - 2)"]))]
+    else:
+        tail = []
+    diag = ["1"] * (r - k) + tail
+    rows = [["0"] * q for _ in range(p)]
+    for i, e in enumerate(diag):
+        rows[i][i] = e
+    S0 = PolyMatrix(rows)
+    Pm = draw(unimodular_matrices(p))
+    Q = draw(unimodular_matrices(q))
+    return Pm @ S0 @ Q, [P(e) for e in diag]
+
+
+@given(known_smith())
+def test_known_smith_forms(case):
+    M, expected = case
+    s = check_smith(M)
+    assert list(s.invariant_factors) == expected
+    assert list(invariant_factors(M)) == expected
+    assert M.rank() == len(expected)
+
+
+# ----------------------------------------------------------------------------
+# fixed examples
+# ----------------------------------------------------------------------------
+def test_style_guide_example():
+    s = check_smith(PolyMatrix.diag("d", "d + 1"))
+    assert s.invariant_factors == (1, P("d**2 + d"))
+    assert s.S == PolyMatrix.diag(1, "d**2 + d")
+
+
+def test_known_small_cases():
+    cases = [
+        ("[[d, 0], [0, d]]", ["d", "d"]),
+        ("[[2*d + 2]]", ["d + 1"]),
+        ("[[d, 1], [0, d]]", ["1", "d**2"]),
+        ("[[d**2, 0, 0], [0, d, 0]]", ["d", "d**2"]),
+        ("[[d - 1, 0], [0, d + 1]]", ["1", "d**2 - 1"]),
+        ("[[1, d, d**2]]", ["1"]),
+        ("[[d], [d**2]]", ["d"]),
+        ("[[0, 0], [0, 0]]", []),
+    ]
+    for text, fs in cases:
+        s = check_smith(PolyMatrix(text))
+        assert list(s.invariant_factors) == [P(f) for f in fs], text
+
+
+@pytest.mark.parametrize("shape", [(0, 0), (0, 3), (3, 0), (3, 3), (2, 4), (4, 2)])
+def test_empty_and_zero_matrices(shape):
+    Z = PolyMatrix.zeros(*shape)
+    s = check_smith(Z)
+    assert s.S == Z and s.invariant_factors == ()
+    assert invariant_factors(Z) == ()
+
+
+def test_rank_deficient():
+    a = PolyMatrix("[[1, d], [d - 1, 2], [0, 1], [d, d]]")
+    b = PolyMatrix("[[d, 1, 0], [1, 0, d + 1]]")
+    M = a @ b
+    s = check_smith(M)
+    assert len(s.invariant_factors) == 2
+    assert [to_sympy_poly(f) for f in s.invariant_factors] == reference_invariant_factors(M)
+
+
+def test_paper_001_invariant_factors():
+    """Zheng et al. §5 (Assumption 2): Invs [[CB, D], [D, 0]] = {1, 1, 1}, and appending
+    the block row [B, 0] does not change them (ERRATA: unique, compare values)."""
+    M = paper_001_M()
+    s = check_smith(M)
+    assert s.invariant_factors == (1, 1, 1)
+    assert invariant_factors(M) == (1, 1, 1)
+    assert M.rank() == 3
+    sysm = paper_001_system()
+    B = sysm["B"]
+    M3 = PolyMatrix.vstack(M, PolyMatrix.hstack(B, PolyMatrix.zeros(B.rows, 2)))
+    assert invariant_factors(M3) == (1, 1, 1)
+
+
+# ----------------------------------------------------------------------------
+# predicate and result object
+# ----------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("[[1, 0], [0, d]]", True),
+        ("[[d, 0], [0, 1]]", False),  # d does not divide 1
+        ("[[2, 0], [0, d]]", False),  # not monic
+        ("[[1, 1], [0, d]]", False),  # not diagonal
+        ("[[0, 0], [0, d]]", False),  # zero before nonzero
+        ("[[d, 0, 0], [0, d**2 - d, 0]]", True),
+        ("[[d, 0], [0, d + 1]]", False),
+        ("[[1, 0], [0, 0], [0, 0]]", True),
+    ],
+)
+def test_is_smith(text, expected):
+    assert is_smith(PolyMatrix(text)) is expected
+
+
+def test_result_is_frozen_and_not_a_tuple():
+    M = PolyMatrix("[[d, 1], [0, d]]")
+    s = smith(M)
+    with pytest.raises(AttributeError):
+        s.S = M  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        iter(s)
+
+
+def test_verify_detects_a_wrong_claim():
+    M = PolyMatrix("[[d, 1], [0, d]]")
+    s = smith(M)
+    assert s.verify(M).ok
+    assert not dataclasses.replace(s, S=PolyMatrix.diag(1, "d")).verify(M).ok
+    assert not dataclasses.replace(s, V=s.V @ PolyMatrix.diag("d", 1)).verify(M).ok
