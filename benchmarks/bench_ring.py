@@ -1,0 +1,494 @@
+#!/usr/bin/env python
+"""Benchmark of the exact ring layer (uio_ring.ring) against sympy and SageMath.
+
+One run prints one table: our time, sympy's time and the ratio, and -- when
+``sage.all`` (e.g. the ``passagemath`` wheels) is importable -- SageMath's time
+and ratio; then the import cost of ``uio_ring`` against ``sympy``.
+
+Every (library, matrix) pair runs in its own worker process, so that a case
+that exceeds the per-operation time budget is killed and reported as
+``timeout`` instead of hanging the run; once an operation times out at some
+size, larger sizes of the same family are reported ``skipped (> budget)``.
+Times are the best of up to ``--repeats`` runs (repeats stop after ~1 s).
+
+What is compared
+    hermite          ours: hermite(M) (H and U);  sage: M.hermite_form(transformation=True)
+    smith            ours: smith(M) (S, U, V);     sympy: smith_normal_decomp(M, domain=QQ[d]);
+                     sage: M.smith_form()
+    invariant_factors ours: invariant_factors(M);  sympy: invariant_factors(M, domain=QQ[d]);
+                     sage: M.elementary_divisors()
+    rank, det        sympy: DomainMatrix over QQ(d) / QQ[d] (sympy's fastest path);
+                     sage: M.rank(), M.det()
+    is_unimodular    sympy/sage: det is a nonzero constant
+    left_inverse, left_kernel, solve_left: ours only (neither library has a
+                     polynomial left inverse or saturated kernel basis of this kind)
+
+Cases (seeded, identical for every library)
+    random     n×n, entries of degree 2 with integer coefficients in [−3, 3]
+    smith      P·diag(1, …, 1, δ+1, (δ+1)(δ−2))·Q, P and Q random unimodular
+    tall       (n+2)×n left-unimodular: first n columns of a random unimodular matrix
+    paper001   M = [[C B, D], [D, 0]] of Zheng et al. §5 (6×4)
+
+Usage::
+
+    python benchmarks/bench_ring.py                 # n = 4, 8, 12, 16, 20
+    python benchmarks/bench_ring.py --max-n 12
+    python benchmarks/bench_ring.py --quick         # tiny sizes: a smoke test
+
+Timings are never asserted anywhere; tests/test_benchmarks_smoke.py only checks
+that ``--quick`` exits 0.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import multiprocessing as mp
+import os
+import random
+import subprocess
+import sys
+import time
+from typing import Any
+
+SIZES = [4, 8, 12, 16, 20]
+QUICK_SIZES = [2, 3]
+
+Coeffs = list[int]  # low to high
+Data = list[list[Coeffs]]  # matrix of coefficient lists
+
+
+# ----------------------------------------------------------------------------
+# plain-Python polynomial matrices (so that every library gets the same data)
+# ----------------------------------------------------------------------------
+def _trim(p: Coeffs) -> Coeffs:
+    p = list(p)
+    while p and p[-1] == 0:
+        p.pop()
+    return p
+
+
+def _padd(a: Coeffs, b: Coeffs) -> Coeffs:
+    n = max(len(a), len(b))
+    return _trim([(a[i] if i < len(a) else 0) + (b[i] if i < len(b) else 0) for i in range(n)])
+
+
+def _pmul(a: Coeffs, b: Coeffs) -> Coeffs:
+    if not a or not b:
+        return []
+    out = [0] * (len(a) + len(b) - 1)
+    for i, x in enumerate(a):
+        if x:
+            for j, y in enumerate(b):
+                out[i + j] += x * y
+    return _trim(out)
+
+
+def _matmul(A: Data, B: Data) -> Data:
+    n, k, m = len(A), len(B), len(B[0]) if B else 0
+    out = []
+    for i in range(n):
+        row = []
+        for j in range(m):
+            acc: Coeffs = []
+            for t in range(k):
+                acc = _padd(acc, _pmul(A[i][t], B[t][j]))
+            row.append(acc)
+        out.append(row)
+    return out
+
+
+def _random_matrix(rng: random.Random, n: int, m: int, degree: int, lo: int = -3, hi: int = 3) -> Data:
+    return [[_trim([rng.randint(lo, hi) for _ in range(degree + 1)]) for _ in range(m)] for _ in range(n)]
+
+
+def _random_unimodular(rng: random.Random, n: int) -> Data:
+    """L·U with L unit lower, U unit upper triangular, off-diagonal entries of degree <= 1."""
+    L = [[[1] if i == j else (_trim([rng.randint(-2, 2), rng.randint(-2, 2)]) if j < i else [])
+          for j in range(n)] for i in range(n)]
+    U = [[[1] if i == j else (_trim([rng.randint(-2, 2), rng.randint(-2, 2)]) if j > i else [])
+          for j in range(n)] for i in range(n)]
+    return _matmul(L, U)
+
+
+def _diag(entries: list[Coeffs], n: int) -> Data:
+    return [[entries[i] if i == j else [] for j in range(n)] for i in range(n)]
+
+
+def paper_001_matrix() -> Data:
+    """M = [[C B, D], [D, 0]] from A, B, C, D of Zheng et al. §5 (A is not needed)."""
+    d = [0, 1]
+    B = [[[], []], [[], []], [[1], [1]], [[], d]]
+    C = [[d, [], [], []], [[], [1], [], []], [[], [], [1], [1]]]
+    D = [[[1], d], [[], []], [[1], d]]
+    CB = _matmul(C, B)
+    top = [CB[i] + D[i] for i in range(3)]
+    bottom = [D[i] + [[], []] for i in range(3)]
+    return top + bottom
+
+
+def build_cases(sizes: list[int], seed: int) -> list[dict[str, Any]]:
+    rng = random.Random(seed)
+    cases: list[dict[str, Any]] = []
+    square_ops = ["hermite", "smith", "invariant_factors", "rank", "det", "is_unimodular", "solve_left"]
+    for n in sizes:
+        M = _random_matrix(rng, n, n, 2)
+        X0 = _random_matrix(rng, 2, n, 1)
+        cases.append(dict(family="random", n=n, shape=(n, n), M=M, W=_matmul(X0, M), ops=square_ops))
+    for n in sizes:
+        k = min(2, n - 1)
+        tail = [[1, 1], [-2, -1, 1]][2 - k:] if k > 0 else []  # δ+1, (δ+1)(δ−2)
+        S = _diag([[1]] * (n - k) + tail, n)
+        M = _matmul(_matmul(_random_unimodular(rng, n), S), _random_unimodular(rng, n))
+        cases.append(dict(family="smith", n=n, shape=(n, n), M=M, W=None,
+                          ops=["hermite", "smith", "invariant_factors", "rank", "det", "is_unimodular"]))
+    for n in sizes:
+        Uf = _random_unimodular(rng, n + 2)
+        M = [row[:n] for row in Uf]
+        cases.append(dict(family="tall", n=n, shape=(n + 2, n), M=M, W=None,
+                          ops=["left_inverse", "left_kernel", "hermite", "is_unimodular_left"]))
+    M = paper_001_matrix()
+    cases.append(dict(family="paper001", n=6, shape=(6, 4), M=M, W=[M[0], M[2]],
+                      ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel", "solve_left"]))
+    return cases
+
+
+# ----------------------------------------------------------------------------
+# workers: one per (library, case); they stream (op, seconds | error) back
+# ----------------------------------------------------------------------------
+def _poly_text(c: Coeffs) -> str:
+    return " + ".join(f"({x})*d**{k}" for k, x in enumerate(c) if x) or "0"
+
+
+def _setup_ours(case):
+    from uio_ring import (
+        PolyMatrix,
+        hermite,
+        invariant_factors,
+        is_left_unimodular,
+        is_unimodular,
+        left_inverse,
+        left_kernel,
+        smith,
+        solve_left,
+    )
+
+    M = PolyMatrix.from_coefficients(_coefficient_matrices(case["M"], *case["shape"]))
+    W = None
+    if case["W"] is not None:
+        W = PolyMatrix.from_coefficients(_coefficient_matrices(case["W"], len(case["W"]), case["shape"][1]))
+
+    def monic_factors():
+        return [[str(c) for c in f.monic().coeffs()] for f in invariant_factors(M)]
+
+    ops = {
+        "hermite": lambda: hermite(M),
+        "smith": lambda: smith(M),
+        "invariant_factors": lambda: invariant_factors(M),
+        "rank": lambda: M.rank(),
+        "det": lambda: M.det(),
+        "is_unimodular": lambda: is_unimodular(M),
+        "is_unimodular_left": lambda: is_left_unimodular(M),
+        "left_inverse": lambda: left_inverse(M),
+        "left_kernel": lambda: left_kernel(M),
+        "solve_left": lambda: solve_left(M, W),
+    }
+    return ops, monic_factors
+
+
+def _coefficient_matrices(data: Data, n: int, m: int) -> list[list[list[int]]]:
+    deg = max((len(c) for row in data for c in row), default=0)
+    return [[[c[k] if k < len(c) else 0 for c in row] for row in data] for k in range(max(deg, 1))]
+
+
+def _setup_sympy(case):
+    import sympy as sp
+    from sympy.matrices.normalforms import invariant_factors, smith_normal_decomp
+    from sympy.polys.matrices import DomainMatrix
+
+    d = sp.Symbol("d")
+    R = sp.QQ[d]
+    n, m = case["shape"]
+    M = sp.Matrix(n, m, lambda i, j: sum((x * d**k for k, x in enumerate(case["M"][i][j])), sp.Integer(0)))
+
+    def det():
+        return DomainMatrix.from_Matrix(M).convert_to(R).det()
+
+    def is_unimodular():
+        v = R.to_sympy(det())
+        return v != 0 and sp.Poly(v, d).degree() == 0
+
+    def monic_factors():
+        fs = [f for f in invariant_factors(M, domain=R) if f != 0]
+        return [[str(c) for c in reversed(sp.Poly(f, d, domain=sp.QQ).monic().all_coeffs())] for f in fs]
+
+    ops = {
+        "smith": lambda: smith_normal_decomp(M, domain=R),
+        "invariant_factors": lambda: invariant_factors(M, domain=R),
+        "rank": lambda: DomainMatrix.from_Matrix(M).convert_to(R.get_field()).rank(),
+        "det": det,
+        "is_unimodular": is_unimodular,
+    }
+    return ops, monic_factors
+
+
+def _setup_sage(case):
+    from sage.all import QQ, PolynomialRing, matrix  # type: ignore[import-not-found]
+
+    R = PolynomialRing(QQ, "d")
+    n, m = case["shape"]
+    M = matrix(R, n, m, [R(list(c)) for row in case["M"] for c in row])
+
+    def monic_factors():
+        fs = [f for f in M.elementary_divisors() if f != 0]
+        return [[str(c) for c in f.monic().list()] for f in fs]
+
+    ops = {
+        "hermite": lambda: M.hermite_form(transformation=True),
+        "smith": lambda: M.smith_form(),
+        "invariant_factors": lambda: M.elementary_divisors(),
+        "rank": lambda: M.rank(),
+        "det": lambda: M.det(),
+        "is_unimodular": lambda: M.is_square() and M.det().degree() == 0,
+    }
+    return ops, monic_factors
+
+
+SETUP = {"ours": _setup_ours, "sympy": _setup_sympy, "sage": _setup_sage}
+
+
+def _worker(lib: str, case: dict[str, Any], ops: list[str], repeats: int, conn) -> None:
+    try:
+        table, monic_factors = SETUP[lib](case)
+    except Exception as exc:  # report, never hang
+        conn.send(("setup-error", f"{type(exc).__name__}: {exc}"))
+        return
+    conn.send(("ready", None))
+    for op in ops:
+        if op == "__check__":
+            try:
+                conn.send((op, monic_factors()))
+            except Exception as exc:
+                conn.send((op, f"error: {type(exc).__name__}: {exc}"))
+            continue
+        fn = table.get(op)
+        if fn is None:
+            conn.send((op, None))
+            continue
+        try:
+            best = float("inf")
+            spent = 0.0
+            for _ in range(repeats):
+                t0 = time.perf_counter()
+                fn()
+                t = time.perf_counter() - t0
+                best = min(best, t)
+                spent += t
+                if spent > 1.0:
+                    break
+            conn.send((op, best))
+        except Exception as exc:
+            conn.send((op, f"error: {type(exc).__name__}: {exc}"))
+
+
+def _context():
+    methods = mp.get_all_start_methods()
+    return mp.get_context("fork" if "fork" in methods else "spawn")
+
+
+def run_case(lib: str, case: dict[str, Any], ops: list[str], repeats: int, budget: float) -> dict[str, Any]:
+    """Run ``ops`` for one library on one case; each op gets ``budget`` seconds."""
+    ctx = _context()
+    results: dict[str, Any] = {}
+    todo = list(ops)
+    while todo:
+        parent, child = ctx.Pipe(duplex=False)
+        proc = ctx.Process(target=_worker, args=(lib, case, todo, repeats, child), daemon=True)
+        proc.start()
+        child.close()
+        try:
+            if not parent.poll(max(budget, 60.0)):
+                for op in todo:
+                    results[op] = "setup timeout"
+                break
+            tag, msg = parent.recv()
+            if tag == "setup-error":
+                for op in todo:
+                    results[op] = f"error: {msg}"
+                break
+            while todo:
+                op = todo[0]
+                if not parent.poll(budget):
+                    results[op] = "timeout"
+                    todo.pop(0)
+                    break  # kill this worker; a fresh one continues with the rest
+                got_op, value = parent.recv()
+                results[got_op] = value
+                todo.pop(0)
+        except EOFError:
+            if todo:
+                results[todo.pop(0)] = "crashed"
+        finally:
+            if proc.is_alive():
+                proc.kill()
+            proc.join()
+            parent.close()
+    return results
+
+
+# ----------------------------------------------------------------------------
+# import cost
+# ----------------------------------------------------------------------------
+_IMPORT_OURS = (
+    "import time; t0 = time.perf_counter(); import uio_ring; t1 = time.perf_counter(); "
+    "from uio_ring import PolyMatrix, smith; smith(PolyMatrix('[[d, 0], [0, d + 1]]')); "
+    "t2 = time.perf_counter(); print(t1 - t0, t2 - t1)"
+)
+_IMPORT_SYMPY = (
+    "import time; t0 = time.perf_counter(); import sympy; t1 = time.perf_counter(); "
+    "from sympy.matrices.normalforms import invariant_factors; d = sympy.Symbol('d'); "
+    "invariant_factors(sympy.Matrix([[d, 0], [0, d + 1]]), domain=sympy.QQ[d]); "
+    "t2 = time.perf_counter(); print(t1 - t0, t2 - t1)"
+)
+
+
+def import_times(repeats: int) -> list[tuple[str, float, float, float]]:
+    rows = []
+    for label, code in (("uio_ring", _IMPORT_OURS), ("sympy", _IMPORT_SYMPY)):
+        best = (float("inf"), float("inf"), float("inf"))
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                 timeout=120, check=True)
+            wall = time.perf_counter() - t0
+            a, b = (float(x) for x in out.stdout.split())
+            if a + b < best[0] + best[1]:
+                best = (a, b, wall)
+        rows.append((label, *best))
+    return rows
+
+
+# ----------------------------------------------------------------------------
+# main
+# ----------------------------------------------------------------------------
+def _fmt(v: Any) -> str:
+    if v is None:
+        return "n/a"
+    if isinstance(v, float):
+        return f"{v:.4f}" if v < 10 else f"{v:.1f}"
+    return str(v)
+
+
+def _ratio(other: Any, ours: Any) -> str:
+    if isinstance(other, float) and isinstance(ours, float) and ours > 0:
+        return f"{other / ours:.1f}x"
+    return ""
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="tiny sizes only (smoke test)")
+    ap.add_argument("--max-n", type=int, default=max(SIZES), help="largest n (default 20)")
+    ap.add_argument("--budget", type=float, default=60.0, help="seconds per operation and library")
+    ap.add_argument("--repeats", type=int, default=5, help="best of k for fast operations")
+    ap.add_argument("--seed", type=int, default=20261123)
+    ap.add_argument("--no-sympy", action="store_true", help="skip the sympy columns")
+    args = ap.parse_args(argv)
+
+    sizes = QUICK_SIZES if args.quick else [n for n in SIZES if n <= args.max_n]
+    budget = min(args.budget, 30.0) if args.quick else args.budget
+    repeats = 1 if args.quick else args.repeats
+    libs = ["ours"] + ([] if args.no_sympy else ["sympy"])
+    if importlib.util.find_spec("sage") is not None and importlib.util.find_spec("sage.all") is not None:
+        libs.append("sage")
+
+    import platform
+
+    print(f"# uio_ring ring benchmark  (python {platform.python_version()}, {os.cpu_count()} cpu, "
+          f"budget {budget:g} s/op, best of {repeats}, seed {args.seed})")
+    versions = []
+    for mod in ("uio_ring", "sympy", "flint"):
+        try:
+            versions.append(f"{mod} {__import__(mod).__version__}")
+        except Exception:
+            versions.append(f"{mod} ?")
+    if "sage" in libs:
+        versions.append("sage: yes")
+    else:
+        versions.append("sage: not installed (columns omitted)")
+    print("# " + ", ".join(versions))
+
+    cases = build_cases(sizes, args.seed)
+    timed_out: set[tuple[str, str, str]] = set()  # (lib, family, op)
+    header = ["family", "n", "shape", "operation", "ours [s]"]
+    if "sympy" in libs:
+        header += ["sympy [s]", "sympy/ours"]
+    if "sage" in libs:
+        header += ["sage [s]", "sage/ours"]
+    rows: list[list[str]] = []
+    mismatches: list[str] = []
+    start = time.perf_counter()
+    for case in cases:
+        res: dict[str, dict[str, Any]] = {}
+        for lib in libs:
+            ops = []
+            skipped = {}
+            for op in case["ops"]:
+                if (lib, case["family"], op) in timed_out:
+                    skipped[op] = "skipped (> budget)"
+                else:
+                    ops.append(op)
+            if "invariant_factors" in ops:  # cross-check the (unique) invariant factors
+                ops.append("__check__")
+            r = run_case(lib, case, ops, repeats, budget) if ops else {}
+            r.update(skipped)
+            for op, v in r.items():
+                if v == "timeout":
+                    timed_out.add((lib, case["family"], op))
+            res[lib] = r
+        ref = res["ours"].get("__check__")
+        for lib in libs[1:]:
+            other = res[lib].get("__check__")
+            if isinstance(ref, list) and isinstance(other, list) and ref != other:
+                mismatches.append(f"{case['family']} n={case['n']}: invariant factors differ, ours vs {lib}")
+        for op in case["ops"]:
+            ours = res["ours"].get(op)
+            line = [case["family"], str(case["n"]), f"{case['shape'][0]}x{case['shape'][1]}",
+                    op.replace("is_unimodular_left", "is_left_unimodular"), _fmt(ours)]
+            for lib in libs[1:]:
+                v = res[lib].get(op)
+                line += [_fmt(v), _ratio(v, ours)]
+            rows.append(line)
+        _print_rows(header, rows)
+        rows.clear()
+    print(f"# total benchmark time {time.perf_counter() - start:.1f} s")
+    if mismatches:
+        print("# WARNING: " + "; ".join(mismatches))
+    else:
+        print("# invariant factors agree between all libraries on every case where both finished")
+
+    print()
+    k = 1 if args.quick else 3
+    print(f"# import cost (fresh interpreter, best of {k}): import, first use, interpreter wall")
+    for label, imp, first, wall in import_times(k):
+        print(f"{label:10s} import {imp:7.3f} s   first use {first:7.3f} s   wall {wall:7.3f} s")
+    return 1 if mismatches else 0
+
+
+_printed_header = False
+
+
+def _print_rows(header: list[str], rows: list[list[str]]) -> None:
+    global _printed_header
+    widths = [max(len(h), 12) for h in header]
+    widths[0], widths[1], widths[2], widths[3] = 9, 3, 6, 18
+    if not _printed_header:
+        print("  ".join(h.ljust(w) for h, w in zip(header, widths, strict=True)))
+        print("  ".join("-" * w for w in widths))
+        _printed_header = True
+    for r in rows:
+        print("  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)), flush=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
