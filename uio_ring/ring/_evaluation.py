@@ -15,7 +15,15 @@ import flint
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 
-__all__ = ["coefficient_mats", "points", "evaluate", "interpolate", "minor_degree_bound"]
+__all__ = [
+    "coefficient_mats",
+    "points",
+    "first_points",
+    "evaluate",
+    "interpolate",
+    "interpolate_columns",
+    "minor_degree_bound",
+]
 
 
 def coefficient_mats(a: dn.Rows, m: int, n: int) -> list[flint.fmpq_mat]:
@@ -35,6 +43,38 @@ def points() -> Iterator[int]:
         yield k
         yield -k
         k += 1
+
+
+def first_points(count: int) -> list[int]:
+    """The first ``count`` points of :func:`points`."""
+    out: list[int] = []
+    for x in points():
+        if len(out) == count:
+            break
+        out.append(x)
+    return out
+
+
+_VANDERMONDE_INVERSES: dict[int, flint.fmpq_mat] = {}
+
+
+def _vandermonde_inverse(count: int) -> flint.fmpq_mat:
+    inv = _VANDERMONDE_INVERSES.get(count)
+    if inv is None:
+        xs = first_points(count)
+        v = flint.fmpq_mat(count, count, [flint.fmpq(x) ** e for x in xs for e in range(count)])
+        inv = v.inv()
+        _VANDERMONDE_INVERSES[count] = inv  # a cache of constants: results never depend on it
+    return inv
+
+
+def interpolate_columns(values: flint.fmpq_mat) -> list[flint.fmpq_poly]:
+    """Interpolate every column of ``values`` (row k = values at the k-th point of
+    :func:`points`) in one matrix product; returns one polynomial per column."""
+    count, k = values.nrows(), values.ncols()
+    coeffs = _vandermonde_inverse(count) * values
+    entries = coeffs.entries()
+    return [flint.fmpq_poly([entries[e * k + j] for e in range(count)]) for j in range(k)]
 
 
 def evaluate(coeffs: Sequence[flint.fmpq_mat], x: int) -> flint.fmpq_mat:

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
 from uio_ring.ring.certificate import Certificate, Check
 
 if TYPE_CHECKING:
@@ -177,9 +178,12 @@ def hermite(M: PolyMatrix) -> HermiteResult:
 
     Algorithm
     ---------
-    Euclidean elimination column by column with least-degree pivots
-    (:func:`row_echelon`), then normalisation of the pivots, then a Popov
-    reduction of the kernel part of U (Mulders & Storjohann 2003).
+    Square matrices of size ≥ ``GENERIC_MIN_SIZE`` first try the certified
+    evaluation/interpolation path of :mod:`uio_ring.ring._generic` (generic
+    shape ``[[I, h], [0, det]]``, U = H·M⁻¹ interpolated; O(n⁴·deg) rational
+    operations in C).  Otherwise: Euclidean elimination column by column with
+    least-degree pivots (:func:`row_echelon`), normalisation of the pivots, and
+    a Popov reduction of the kernel part of U (Mulders & Storjohann 2003).
 
     Examples
     --------
@@ -196,12 +200,22 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     from uio_ring.ring.matrix import PolyMatrix
 
     m, n = M.shape
+    var = M.var
+    if m == n >= GENERIC_MIN_SIZE:
+        got = generic_hermite(M._r, n)
+        if got is not None:
+            H, U, _ = got
+            return HermiteResult(
+                H=PolyMatrix._new(H, n, n, var),
+                U=PolyMatrix._new(U, n, n, var),
+                rank=n,
+                pivots=tuple(range(n)),
+            )
     a = dn.copy(M._r)
     u = dn.identity(m)
     pivots = row_echelon(a, u, m, n)
     _normalise(a, u, pivots)
     reduce_transform(u, len(pivots))
-    var = M.var
     return HermiteResult(
         H=PolyMatrix._new(a, m, n, var),
         U=PolyMatrix._new(u, m, m, var),

@@ -5,7 +5,7 @@ Grammar (whitespace is ignored)::
     matrix := '[' row (',' row)* ']'  |  '[' ']'      (a flat '[a, b]' is one row)
     row    := '[' expr (',' expr)* ']' |  '[' ']'
     expr   := ['+'|'-'] term (('+'|'-') term)*
-    term   := power (('*'|'/') power | power)*        (juxtaposition: 2d = 2*d)
+    term   := power (('*'|'/') power | power)*        (2d = 2*d; a number never follows juxtaposed)
     power  := atom [('**'|'^') ['+'] INTEGER]
     atom   := NUMBER | VAR | '(' expr ')'
 
@@ -149,12 +149,12 @@ class _Parser:
                 if divisor.degree() > 0:
                     raise DomainError(
                         f"{self.text!r}, column {pos + 1}: division by the non-constant "
-                        f"polynomial {bk.to_str(divisor, self.var)} does not give a polynomial; "
-                        "entries must be polynomials in the indeterminate"
+                        f"{bk.to_str(divisor, self.var)!r} does not give a polynomial in "
+                        f"{self.var!r}; entries must be polynomials, divide only by nonzero constants"
                     )
                 value = value / divisor[0]
-            elif kind in ("num", "name") or (kind == "op" and tv == "("):
-                value = value * self.power()  # juxtaposition: 2d, 3(d + 1)
+            elif kind == "name" or (kind == "op" and tv == "("):
+                value = value * self.power()  # juxtaposition: 2d, 3(d + 1); never before a number
             else:
                 return value
 

@@ -16,6 +16,12 @@ from typing import TYPE_CHECKING
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._generic import (
+    GENERIC_MIN_SIZE,
+    GENERIC_MIN_SIZE_FACTORS,
+    generic_hermite,
+    generic_last_factor,
+)
 from uio_ring.ring.certificate import Certificate, Check
 from uio_ring.ring.hermite import reduce_transform, row_echelon
 from uio_ring.ring.poly import Poly
@@ -149,7 +155,10 @@ def smith(M: PolyMatrix) -> SmithResult:
 
     Algorithm
     ---------
-    Alternating row and column echelon forms with least-degree pivots until
+    Square matrices of size ≥ ``GENERIC_MIN_SIZE`` first try the certified
+    generic path of :mod:`uio_ring.ring._generic` (``S = H·V`` with H the generic
+    Hermite form and ``V = [[I, −h], [0, 1]]``).  Otherwise:
+    alternating row and column echelon forms with least-degree pivots until
     the matrix is diagonal, then 2×2 gcd steps for divisibility, then monic
     normalisation and kernel reduction of the transforms.
 
@@ -168,6 +177,22 @@ def smith(M: PolyMatrix) -> SmithResult:
     from uio_ring.ring.matrix import PolyMatrix
 
     m, n = M.shape
+    var = M.var
+    if m == n >= GENERIC_MIN_SIZE:
+        got = generic_hermite(M._r, n)
+        if got is not None:  # H = [[I, h], [0, δ_n]] and V = [[I, -h], [0, 1]]
+            H, U, h = got
+            V = dn.identity(n)
+            for i in range(n - 1):
+                V[i][n - 1] = -h[i]
+            S = dn.identity(n)
+            S[n - 1][n - 1] = H[n - 1][n - 1]
+            return SmithResult(
+                S=PolyMatrix._new(S, n, n, var),
+                U=PolyMatrix._new(U, n, n, var),
+                V=PolyMatrix._new(V, n, n, var),
+                invariant_factors=tuple(Poly._wrap(S[i][i], var) for i in range(n)),
+            )
     u = dn.identity(m)
     vt = dn.identity(n)
     a, r = _diagonalise(dn.copy(M._r), u, vt, m, n)
@@ -180,7 +205,6 @@ def smith(M: PolyMatrix) -> SmithResult:
             u[i] = [x * inv for x in u[i]]
     reduce_transform(u, r)
     reduce_transform(vt, r)
-    var = M.var
     S = dn.zeros(m, n)
     for i in range(r):
         S[i][i] = a[i][i]
@@ -195,13 +219,20 @@ def smith(M: PolyMatrix) -> SmithResult:
 def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     """The invariant factors of M: monic, ``s_1 | s_2 | … | s_r``, r = rank M.
 
-    Computed without transforms.
+    Computed without transforms.  Square matrices of size ≥ ``GENERIC_MIN_SIZE_FACTORS``
+    first try the certified generic path (factors ``1, …, 1, det/lc`` proved by
+    ``gcd(c_n, det) = 1``, see :mod:`uio_ring.ring._generic`).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> invariant_factors(PolyMatrix("[[d, 0], [0, d**2], [1, 1]]"))
     (1, d)
     """
     m, n = M.shape
+    if m == n >= GENERIC_MIN_SIZE_FACTORS:
+        last = generic_last_factor(M._r, n)
+        if last is not None:
+            one = Poly._wrap(bk.ONE, M.var)
+            return (one,) * (n - 1) + (Poly._wrap(last, M.var),)
     a, r = _diagonalise(dn.copy(M._r), None, None, m, n)
     _fix_divisibility(a, None, None, r)
     return tuple(Poly._wrap(bk.monic(a[i][i]), M.var) for i in range(r))
