@@ -1,0 +1,145 @@
+"""Unknown-input observability over Q[δ]: algorithm (4)–(5) and Assumption 1 of paper 001.
+
+The algorithm (Bejarano & Zheng 2014, quoted as (4)–(5) in Zheng et al. 2015)
+extracts, step by step, the combinations ``Δ_k(δ) x`` of the state that the
+output and its derivatives reveal free of the unknown input ``w``::
+
+    Δ_0 = 0 (no rows),  F_0 = D,  G_0 = C
+    P_k [[Δ_k B, Δ_k A], [F_k, G_k]] = [[F_{k+1}, G_{k+1}], [0, Δ_{k+1}]]
+    N_{k+1} = [N_k; Δ_{k+1}],   M_{k+1} = diag(invariant factors of N_{k+1})
+
+where ``P_k`` brings ``S_k = [Δ_k B; F_k]`` to Hermite form.  ``k*`` is the
+least ``k`` with ``M_{k+1} = M_k``; Assumption 1 holds iff ``rank M_{k*} = n_x``
+and ``M_{k*}`` is unimodular (all invariant factors are units).
+
+Known inputs ``u`` play no part: they are measured and can be subtracted.
+
+>>> from uio_ring import DelaySystem
+>>> sys = DelaySystem("[[0, 1], [0, d]]", "[[0], [1]]", "[[1, 0]]", None)
+>>> rep = unknown_input_observability(sys)
+>>> rep.holds, rep.k_star, [M.shape for M in rep.M]
+(True, 2, [(0, 0), (1, 1), (2, 2), (2, 2)])
+"""
+
+from __future__ import annotations
+
+from uio_ring.analysis.report import ObservabilityReport
+from uio_ring.errors import UioRingError
+from uio_ring.ring.hermite import hermite
+from uio_ring.ring.matrix import Poly, PolyMatrix
+from uio_ring.ring.smith import invariant_factors
+from uio_ring.systems.delay_system import DelaySystem
+
+__all__ = ["unknown_input_observability"]
+
+
+def _iteration_cap(sys: DelaySystem) -> int:
+    """A generous bound on the number of steps before ``M_k`` must repeat.
+
+    Each step before stabilisation either raises the rank of ``N_k`` (at most
+    ``n_x`` times) or strictly enlarges its row module inside the same
+    saturation, which lowers the degree of the product of its invariant factors.
+    """
+    return 8 + 4 * sys.n_x * (sys.max_delay_degree + 2) ** 2
+
+
+def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
+    """Run algorithm (4)–(5) of paper 001 and decide Assumption 1.
+
+    Parameters
+    ----------
+    sys
+        The delay system (its known-input matrices ``E``, ``F`` are ignored).
+
+    Returns
+    -------
+    ObservabilityReport
+        The sequences ``Δ_k``, ``N_k``, ``M_k`` (k = 0 … k*+1), ``k*``, the rank
+        of ``M_{k*}``, the verdict ``holds`` and, when it fails, ``reason``:
+        either the rank falls short of ``n_x`` or an invariant factor is not a
+        unit.  Never raises because the assumption fails.
+
+    Algorithm
+    ---------
+    Zheng, Bejarano, Perruquetti & Richard (2015), eqs. (4)–(5), after
+    Bejarano & Zheng (2014).  ``P_k`` is the unimodular transform of the ring's
+    normalised row Hermite form, so ``F_{k+1}`` is that Hermite form and
+    ``Δ_{k+1}`` is the image of ``[Δ_k A; G_k]`` under the left-kernel rows of
+    ``P_k`` (a minimal basis, which keeps the degrees low).  ``k*`` and the
+    ``M_k`` do not depend on these choices.  For a delay-free system the
+    verdict is strong observability (paper 001, Remark 2).
+
+    Examples
+    --------
+    The output ``y = x1 + w`` alone reveals nothing:
+
+    >>> from uio_ring import DelaySystem
+    >>> rep = unknown_input_observability(DelaySystem("[[d]]", "[[1]]", "[[1]]", "[[1]]"))
+    >>> rep.holds, rep.k_star, rep.reason
+    (False, 0, 'rank M_0 = 0 < n_x = 1: the unknown input can hide 1 state direction(s) from the output')
+    >>> unknown_input_observability(DelaySystem("[[0]]", "[[0]]", "[[d + 1]]", None)).non_unit_factors
+    (d + 1,)
+    """
+    A, B, C, D = sys.A, sys.B, sys.C, sys.D
+    n = sys.n_x
+    Delta_k = PolyMatrix.zeros(0, n)
+    F_k, G_k = D, C
+    N_k = Delta_k
+    deltas: list[PolyMatrix] = [Delta_k]
+    Ns: list[PolyMatrix] = [N_k]
+    facs: list[tuple[Poly, ...]] = [()]
+    cap = _iteration_cap(sys)
+    k = 0
+    # Loop invariant: Ns[j], deltas[j], facs[j] hold N_j, Δ_j and the invariant
+    # factors of N_j for j = 0 … k; F_k, G_k, Delta_k are the current blocks.
+    while True:
+        S_k = PolyMatrix.vstack(Delta_k @ B, F_k)
+        R_k = PolyMatrix.vstack(Delta_k @ A, G_k)
+        herm = hermite(S_k)
+        rho = herm.rank
+        PR = herm.U @ R_k
+        F_k = herm.H[0:rho, 0 : S_k.cols]
+        G_k = PR[0:rho, 0:n]
+        Delta_k = PR[rho : PR.rows, 0:n]
+        N_k = PolyMatrix.vstack(N_k, Delta_k)
+        fs = tuple(invariant_factors(N_k))
+        deltas.append(Delta_k)
+        Ns.append(N_k)
+        facs.append(fs)
+        if fs == facs[k]:
+            break
+        k += 1
+        if k > cap:  # pragma: no cover - would contradict Bejarano & Zheng (2014)
+            raise UioRingError(
+                f"algorithm (4)–(5) did not stabilise within {cap} steps; please report this system"
+            )
+    k_star = k
+    final = facs[k_star]
+    rank = len(final)
+    non_units = tuple(f for f in final if not f.is_unit())
+    if rank < n:
+        reason = (
+            f"rank M_{k_star} = {rank} < n_x = {n}: the unknown input can hide "
+            f"{n - rank} state direction(s) from the output"
+        )
+    elif non_units:
+        reason = (
+            f"M_{k_star} is not unimodular: invariant factor(s) "
+            + ", ".join(str(f) for f in non_units)
+            + f" of N_{k_star} are not units (N_{k_star}(δ) loses rank where they vanish)"
+        )
+    else:
+        reason = ""
+    Ms = tuple(PolyMatrix.diag(*fs) if fs else PolyMatrix.zeros(0, 0) for fs in facs)
+    return ObservabilityReport(
+        n_x=n,
+        Delta=tuple(deltas),
+        N=tuple(Ns),
+        M=Ms,
+        invariant_factors=tuple(facs),
+        k_star=k_star,
+        rank=rank,
+        holds=not reason,
+        reason=reason,
+        non_unit_factors=non_units,
+    )

@@ -1,0 +1,55 @@
+"""Conventions shared by every design method: the ``ObserverDesign`` base class.
+
+A design is a frozen dataclass of named exact matrices.  Every design
+
+* keeps the system it was made for in ``system``;
+* proves itself with ``certificate()`` (a :class:`~uio_ring.verify.Certificate`
+  of exact identities, built in :mod:`uio_ring.verify`);
+* converts to plain data with ``to_dict()`` and renders with ``to_latex()`` /
+  ``_repr_latex_`` (δ printed);
+* has a short ``repr`` (the matrices can be large).
+
+>>> issubclass(ObserverDesign, object)
+True
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Any, ClassVar
+
+from uio_ring.ring.certificate import Certificate
+from uio_ring.ring.matrix import PolyMatrix
+
+__all__ = ["ObserverDesign", "matrix_to_data"]
+
+
+def matrix_to_data(M: PolyMatrix) -> list[list[str]]:
+    """A matrix as nested lists of polynomial strings (for JSON/YAML).
+
+    >>> matrix_to_data(PolyMatrix("[[d, 1/2]]"))
+    [['d', '1/2']]
+    """
+    return [[str(x) for x in row] for row in M.tolist()]
+
+
+class ObserverDesign(ABC):
+    """Base class of the design objects returned by ``design_*`` functions."""
+
+    #: Short name of the method, e.g. ``"zheng_bejarano"``.
+    method: ClassVar[str] = ""
+
+    @abstractmethod
+    def certificate(self) -> Certificate:
+        """The exact identities the method promises, each with its verdict."""
+
+    @abstractmethod
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: matrices as lists of polynomial strings."""
+
+    @abstractmethod
+    def to_latex(self) -> str:
+        """The observer equations and its main matrices, as LaTeX (no surrounding ``$``)."""
+
+    def _repr_latex_(self) -> str:
+        return "$$" + self.to_latex() + "$$"

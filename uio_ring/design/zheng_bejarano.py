@@ -1,0 +1,646 @@
+"""The delay unknown-input observer of Zheng, Bejarano, Perruquetti & Richard (paper 001).
+
+For ``x' = A(δ)x + B(δ)w + E(δ)u``, ``y = C(δ)x + D(δ)w + F(δ)u`` satisfying
+Assumptions 1 and 2, Steps 1–5 of the paper give the observer (21)::
+
+    ξ' = L0 ξ + J(δ) Λ(δ) y + J_u(δ) u
+    ẑ  = ξ + H(δ) Λ(δ) y + H_u(δ) u
+    x̂  = T_L⁻¹(δ) ẑ
+
+with the error ``e = T x − ẑ`` obeying ``e' = (A0 − G0 C0) e`` exactly.  ``H``
+and ``J`` follow the corrected formulas (22′) of shared/ERRATA.md (the printed
+(22) is wrong whenever ``[F, 0] Γ̄_i ≠ 0``).  ``J_u``, ``H_u`` carry the known
+input, which the paper does not treat: ``H_u = −H Λ F_u``,
+``J_u = T E − J Λ F_u − H Λ C E`` (zero when there is no known input).
+
+>>> from uio_ring import DelaySystem
+>>> sys = DelaySystem("[[0, 1], [d, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", "[[0], [0]]")
+>>> des = design_zheng_bejarano(sys, poles=[-1])
+>>> des.r, des.l_star, des.n_z, des.lag, des.certificate().ok
+(2, 1, 2, 0, True)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any, ClassVar
+
+from uio_ring.analysis.assumptions import check_assumptions
+from uio_ring.analysis.rank_condition import matching_matrix
+from uio_ring.analysis.report import AssumptionsReport
+from uio_ring.design.base import ObserverDesign, matrix_to_data
+from uio_ring.errors import DimensionError, DomainError, NotObservableError, UioRingError
+from uio_ring.ring.certificate import Certificate
+from uio_ring.ring.hermite import hermite
+from uio_ring.ring.inverse import is_left_unimodular, is_unimodular, left_inverse
+from uio_ring.ring.matrix import Poly, PolyMatrix
+from uio_ring.ring.poly import exact_fraction
+from uio_ring.ring.solve import solve_left
+from uio_ring.systems.delay_system import DelaySystem
+
+__all__ = ["DelayUIODesign", "design_zheng_bejarano", "zheng_bejarano_from_choices"]
+
+_I = PolyMatrix.identity
+_Z = PolyMatrix.zeros
+
+
+# ----------------------------------------------------------------------------------------
+# the design object
+# ----------------------------------------------------------------------------------------
+@dataclass(frozen=True, repr=False)
+class DelayUIODesign(ObserverDesign):
+    """The Zheng–Bejarano delay UIO: every matrix of Steps 1–5, named as in paper 001.
+
+    Step 1: ``U M = [V; 0]`` (``M = [[CB, D], [D, 0]]``), ``Vbar V = [[B, 0], [D, 0]]``,
+    ``W = [Vbar, 0] U = [K; Gamma] = [[K1, K2], [Gamma1, Gamma2]]``.
+    Step 2: ``A_bar = A − K [CA; C]``, ``C_tilde = C − Gamma [CA; C]``,
+    ``Lam C_tilde = [C_bar; 0]`` with ``r = rank C_tilde``.
+    Step 3: ``O = Ō_{l*} = [C_bar; C_bar A_bar; …]`` left unimodular,
+    ``[F_{l*}, …, F_1] = C_bar A_bar^{l*} O_left_inverse`` (16), ``F = [F_1; …; F_{l*}]``,
+    ``T`` from (15) and ``T_left_inverse`` with ``T_left_inverse T = I``.
+    Step 4: ``A0``, ``C0`` (14), ``Gamma{1,2}_bar = Lam Gamma{1,2} Lam⁻¹`` (11),
+    ``K{1,2}_bar = T K{1,2} Lam⁻¹`` (20).
+    Step 5: ``L0 = A0 − G0 C0`` and ``H``, ``J`` from (22′).
+
+    ``n_z = r·l*`` is the observer order and ``lag`` the δ-degree of
+    ``T_left_inverse`` (the estimate lags by ``lag·h``).  ``poles`` are the
+    ``l*`` requested eigenvalues of ``A0 − G0 C0`` on each of the ``r`` output
+    channels.  ``choice`` says how U, Λ and the left inverses were chosen.
+    """
+
+    method: ClassVar[str] = "zheng_bejarano"
+
+    system: DelaySystem
+    U: PolyMatrix
+    V: PolyMatrix
+    Vbar: PolyMatrix
+    W: PolyMatrix
+    K: PolyMatrix
+    Gamma: PolyMatrix
+    K1: PolyMatrix
+    K2: PolyMatrix
+    Gamma1: PolyMatrix
+    Gamma2: PolyMatrix
+    A_bar: PolyMatrix
+    C_tilde: PolyMatrix
+    Lam: PolyMatrix
+    Lam_inverse: PolyMatrix
+    C_bar: PolyMatrix
+    r: int
+    l_star: int
+    O: PolyMatrix
+    O_left_inverse: PolyMatrix
+    F: PolyMatrix
+    T: PolyMatrix
+    T_left_inverse: PolyMatrix
+    A0: PolyMatrix
+    C0: PolyMatrix
+    K1_bar: PolyMatrix
+    K2_bar: PolyMatrix
+    Gamma1_bar: PolyMatrix
+    Gamma2_bar: PolyMatrix
+    poles: tuple[Fraction, ...]
+    G0: PolyMatrix
+    L0: PolyMatrix
+    H: PolyMatrix
+    J: PolyMatrix
+    H_u: PolyMatrix
+    J_u: PolyMatrix
+    choice: str = ""
+    assumptions: AssumptionsReport | None = field(default=None, compare=False)
+
+    @property
+    def n_z(self) -> int:
+        """Observer order ``r·l*`` (rows of ``T``)."""
+        return self.T.rows
+
+    @property
+    def lag(self) -> int:
+        """δ-degree of ``T_left_inverse``: ``x̂(t)`` uses ``ẑ`` up to ``lag·h`` in the past."""
+        return max(0, self.T_left_inverse.degree())
+
+    def F_blocks(self) -> tuple[PolyMatrix, ...]:
+        """``(F_1, …, F_{l*})``, the ``r × r`` blocks of ``F`` (F_1 on top)."""
+        r = self.r
+        return tuple(self.F[i * r : (i + 1) * r, 0:r] for i in range(self.l_star))
+
+    def certificate(self) -> Certificate:
+        """Every identity of Steps 1–5 and Theorem 4, checked exactly (see
+        :func:`uio_ring.verify.delay_uio_certificate`)."""
+        from uio_ring.verify.delay_uio import delay_uio_certificate
+
+        return delay_uio_certificate(self)
+
+    # -- display and data -----------------------------------------------------------
+    def __repr__(self) -> str:
+        return (
+            f"DelayUIODesign(n_z={self.n_z}, lag={self.lag}, r={self.r}, l_star={self.l_star}, "
+            f"poles={[str(p) for p in self.poles]})"
+        )
+
+    def __str__(self) -> str:
+        lines = [
+            f"Zheng–Bejarano delay UIO: n_z = {self.n_z} (r = {self.r} channels × l* = {self.l_star}), "
+            f"lag = {self.lag} (estimate delayed by {self.lag}·h)",
+            f"  poles of A0 − G0 C0 on each channel: {[str(p) for p in self.poles]}",
+            "  ξ' = L0 ξ + J Λ y" + (" + J_u u" if self.system.n_u else ""),
+            "  ẑ  = ξ + H Λ y" + (" + H_u u" if self.system.n_u else ""),
+            "  x̂  = T_L⁻¹ ẑ",
+        ]
+        for name in ("Lam", "L0", "H", "J", "T_left_inverse"):
+            lines.append(f"  {name} =\n    " + str(getattr(self, name)).replace("\n", "\n    "))
+        if self.choice:
+            lines.append(f"  choice: {self.choice}")
+        return "\n".join(lines)
+
+    def to_latex(self) -> str:
+        eqs = [
+            r"\dot{\hat\xi} = L_0 \hat\xi + J(\delta)\Lambda(\delta) y"
+            + (r" + J_u(\delta) u" if self.system.n_u else ""),
+            r"\hat z = \hat\xi + H(\delta)\Lambda(\delta) y" + (r" + H_u(\delta) u" if self.system.n_u else ""),
+            r"\hat x = T_L^{-1}(\delta)\hat z",
+        ]
+        mats = [
+            (r"\Lambda", self.Lam),
+            ("L_0", self.L0),
+            ("H", self.H),
+            ("J", self.J),
+            (r"T_L^{-1}", self.T_left_inverse),
+        ]
+        body = r" \\ ".join(eqs) + r" \\ " + r" \\ ".join(f"{n} = {M.to_latex()}" for n, M in mats)
+        return (
+            r"\begin{gathered}"
+            + rf"\text{{Zheng–Bejarano UIO: }} n_z = {self.n_z},\ \text{{lag}} = {self.lag} \\ "
+            + body
+            + r"\end{gathered}"
+        )
+
+    _MATRICES: ClassVar[tuple[str, ...]] = (
+        "U", "V", "Vbar", "W", "K", "Gamma", "K1", "K2", "Gamma1", "Gamma2", "A_bar", "C_tilde",
+        "Lam", "Lam_inverse", "C_bar", "O", "O_left_inverse", "F", "T", "T_left_inverse", "A0",
+        "C0", "K1_bar", "K2_bar", "Gamma1_bar", "Gamma2_bar", "G0", "L0", "H", "J", "H_u", "J_u",
+    )
+
+    def to_dict(self) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "method": self.method,
+            "system": self.system.to_dict(),
+            "r": self.r,
+            "l_star": self.l_star,
+            "n_z": self.n_z,
+            "lag": self.lag,
+            "poles": [str(p) for p in self.poles],
+            "choice": self.choice,
+        }
+        out["matrices"] = {name: matrix_to_data(getattr(self, name)) for name in self._MATRICES}
+        return out
+
+
+# ----------------------------------------------------------------------------------------
+# Steps 1–5 for given choices
+# ----------------------------------------------------------------------------------------
+def _gain_from_poles(poles: Sequence[Fraction], r: int) -> PolyMatrix:
+    """``G0 = [g_1 I_r; …; g_l I_r]`` with ``s^l + g_1 s^{l−1} + … + g_l = Π (s − p_i)``,
+    so that every channel of ``A0 − G0 C0`` is a companion matrix with those roots.
+
+    Precondition: ``poles`` are Fractions (not checked).
+    """
+    coeffs = [Fraction(1)]  # high -> low: s^k + c1 s^{k-1} + ...
+    for p in poles:
+        nxt = coeffs + [Fraction(0)]
+        for i in range(1, len(nxt)):
+            nxt[i] -= p * coeffs[i - 1]
+        coeffs = nxt
+    blocks = [PolyMatrix.diag(*([coeffs[i]] * r)) if r else _Z(0, 0) for i in range(1, len(coeffs))]
+    return PolyMatrix.vstack(*blocks) if blocks else _Z(0, r)
+
+
+def _shift_matrices(r: int, l: int) -> tuple[PolyMatrix, PolyMatrix]:
+    """``A0`` (block shift with ``I_r`` above the diagonal, ``r l × r l``) and
+    ``C0 = [I_r, 0, …, 0]`` of (14)."""
+    n = r * l
+    rows = [[1 if j == i + r else 0 for j in range(n)] for i in range(n)]
+    A0 = PolyMatrix(rows, shape=(n, n))
+    C0 = PolyMatrix([[1 if j == i else 0 for j in range(n)] for i in range(r)], shape=(r, n))
+    return A0, C0
+
+
+def _read_poles(poles: Sequence[Any] | None, l_star: int) -> tuple[Fraction, ...]:
+    """Validate the requested spectrum: ``l*`` exact rationals (default ``−1, …, −l*``)."""
+    if poles is None:
+        return tuple(Fraction(-(i + 1)) for i in range(l_star))
+    if isinstance(poles, (str, bytes)) or not isinstance(poles, Sequence):
+        raise DomainError(f"poles must be a list of {l_star} rationals, not {poles!r}")
+    values = tuple(exact_fraction(p, f"poles[{i}]") for i, p in enumerate(poles))
+    if len(values) != l_star:
+        raise DimensionError(
+            f"poles has {len(values)} value(s); expected l* = {l_star} (the spectrum of "
+            f"A0 − G0 C0 on each output channel; this design has l* = {l_star})"
+        )
+    return values
+
+
+def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> tuple[int, PolyMatrix] | None:
+    """Least ``l`` with ``Ō_l = [C̄; C̄Ā; …; C̄Ā^{l−1}]`` left unimodular, and ``Ō_l``.
+
+    ``None`` when there is none: by Cayley–Hamilton over Q[δ] the row module of
+    ``Ō_l`` is constant from ``l = n`` on, so ``l ≤ max(n, 1)`` suffices.
+    """
+    r = C_bar.rows
+    if r == 0:
+        return None
+    blocks = [C_bar]
+    last = C_bar
+    for l in range(1, max(n, 1) + 1):
+        if l > 1:
+            last = last @ A_bar
+            blocks.append(last)
+        if r * l < n:
+            continue
+        O = PolyMatrix.vstack(*blocks)
+        if is_left_unimodular(O):
+            return l, O
+    return None
+
+
+def _normal_form_T(A_bar: PolyMatrix, C_bar: PolyMatrix, F: PolyMatrix, l: int) -> PolyMatrix:
+    """``T = [T_1; …; T_l]`` of (15): ``T_1 = C̄``, ``T_{i+1} = T_i Ā − F_i C̄``."""
+    r = C_bar.rows
+    Ts = [C_bar]
+    for i in range(l - 1):
+        F_i = F[i * r : (i + 1) * r, 0:r]
+        Ts.append(Ts[-1] @ A_bar - F_i @ C_bar)
+    return PolyMatrix.vstack(*Ts)
+
+
+def _F_from_row(X: PolyMatrix, r: int, l: int) -> PolyMatrix:
+    """``[F_l, …, F_1]`` (r × r l) to ``F = [F_1; …; F_l]`` (r l × r)."""
+    blocks = [X[0:r, (l - 1 - i) * r : (l - i) * r] for i in range(l)]
+    return PolyMatrix.vstack(*blocks)
+
+
+@dataclass(frozen=True)
+class _Step12:
+    """Steps 1–2 for one choice of U. Precondition: ``U M = [V; 0]`` (checked by caller)."""
+
+    U: PolyMatrix
+    V: PolyMatrix
+    Vbar: PolyMatrix
+    W: PolyMatrix
+    A_bar: PolyMatrix
+    C_tilde: PolyMatrix
+
+
+def _steps_1_2(sys: DelaySystem, U: PolyMatrix, rho: int) -> _Step12:
+    n, p, m = sys.n_x, sys.n_y, sys.n_w
+    M = matching_matrix(sys)
+    UM = U @ M
+    V = UM[0:rho, 0 : 2 * m]
+    if not UM[rho : 2 * p, 0 : 2 * m].is_zero():
+        raise DimensionError(
+            f"U M must be [V; 0] with V of {rho} rows (rank of M); rows {rho}… of U M are not zero"
+        )
+    target = PolyMatrix.vstack(
+        PolyMatrix.hstack(sys.B, _Z(n, m)), PolyMatrix.hstack(sys.D, _Z(p, m))
+    )
+    Vbar = solve_left(V, target) if rho else _Z(n + p, 0)
+    W = PolyMatrix.hstack(Vbar, _Z(n + p, 2 * p - rho)) @ U
+    CA_C = PolyMatrix.vstack(sys.C @ sys.A, sys.C)
+    A_bar = sys.A - W[0:n, 0 : 2 * p] @ CA_C
+    C_tilde = sys.C - W[n : n + p, 0 : 2 * p] @ CA_C
+    return _Step12(U=U, V=V, Vbar=Vbar, W=W, A_bar=A_bar, C_tilde=C_tilde)
+
+
+def _assemble(
+    sys: DelaySystem,
+    s12: _Step12,
+    Lam: PolyMatrix,
+    *,
+    l_and_O: tuple[int, PolyMatrix] | None = None,
+    F: PolyMatrix | None = None,
+    O_left_inverse: PolyMatrix | None = None,
+    T_left_inverse: PolyMatrix | None = None,
+    poles: Sequence[Any] | None = None,
+    choice: str = "",
+    assumptions: AssumptionsReport | None = None,
+) -> DelayUIODesign:
+    """Steps 2 (end) to 5 for given choices; the remaining choices take the ring's
+    reduced defaults.  Precondition: ``Lam`` is unimodular with ``Lam C̃ = [C̄; 0]``."""
+    n, p = sys.n_x, sys.n_y
+    W = s12.W
+    K, Gamma = W[0:n, 0 : 2 * p], W[n : n + p, 0 : 2 * p]
+    K1, K2 = K[0:n, 0:p], K[0:n, p : 2 * p]
+    G1, G2 = Gamma[0:p, 0:p], Gamma[0:p, p : 2 * p]
+    A_bar, C_tilde = s12.A_bar, s12.C_tilde
+    LC = Lam @ C_tilde
+    r = C_tilde.rank()
+    C_bar = LC[0:r, 0:n]
+    if not LC[r:p, 0:n].is_zero():
+        raise DimensionError(f"Λ C̃ must be [C̄; 0] with C̄ of {r} rows (= rank C̃); its last rows are not zero")
+    if l_and_O is None:
+        l_and_O = _observability_index(A_bar, C_bar, n)
+        if l_and_O is None:  # pragma: no cover - excluded by Theorem 3 under Assumptions 1, 2
+            raise UioRingError(
+                "no l* with Ō_l left unimodular although Assumptions 1 and 2 hold "
+                "(contradicts Theorem 3 of paper 001); please report this system"
+            )
+    l_star, O = l_and_O
+    if O_left_inverse is None:
+        O_left_inverse = left_inverse(O)
+    CAl = C_bar @ (A_bar ** l_star)
+    if F is None:
+        F = _F_from_row(CAl @ O_left_inverse, r, l_star)
+    T = _normal_form_T(A_bar, C_bar, F, l_star)
+    if T_left_inverse is None:
+        T_left_inverse = left_inverse(T)
+    vals = _read_poles(poles, l_star)
+    A0, C0 = _shift_matrices(r, l_star)
+    G0 = _gain_from_poles(vals, r)
+    L0 = A0 - G0 @ C0
+    Lam_inv = left_inverse(Lam)
+    G1b, G2b = Lam @ G1 @ Lam_inv, Lam @ G2 @ Lam_inv
+    K1b, K2b = T @ K1 @ Lam_inv, T @ K2 @ Lam_inv
+    nz = T.rows
+    FG0 = PolyMatrix.hstack(F + G0, _Z(nz, p - r))
+    H = K1b - FG0 @ G1b
+    J = FG0 @ (_I(p) - G2b) + K2b + L0 @ H
+    H_u = -(H @ Lam @ sys.F)
+    J_u = T @ sys.E - J @ Lam @ sys.F - H @ Lam @ sys.C @ sys.E
+    return DelayUIODesign(
+        system=sys, U=s12.U, V=s12.V, Vbar=s12.Vbar, W=W, K=K, Gamma=Gamma, K1=K1, K2=K2,
+        Gamma1=G1, Gamma2=G2, A_bar=A_bar, C_tilde=C_tilde, Lam=Lam, Lam_inverse=Lam_inv,
+        C_bar=C_bar, r=r, l_star=l_star, O=O, O_left_inverse=O_left_inverse, F=F, T=T,
+        T_left_inverse=T_left_inverse, A0=A0, C0=C0, K1_bar=K1b, K2_bar=K2b, Gamma1_bar=G1b,
+        Gamma2_bar=G2b, poles=vals, G0=G0, L0=L0, H=H, J=J, H_u=H_u, J_u=J_u, choice=choice,
+        assumptions=assumptions,
+    )
+
+
+def zheng_bejarano_from_choices(
+    sys: DelaySystem,
+    *,
+    U: Any,
+    Lam: Any,
+    O_left_inverse: Any = None,
+    T_left_inverse: Any = None,
+    poles: Sequence[Any] | None = None,
+) -> DelayUIODesign:
+    """Steps 1–5 of paper 001 with the choices made by the caller (no search, no
+    assumption check).
+
+    Useful to reproduce a published design: pass the paper's ``U`` and ``Λ``
+    (and optionally its left inverses); ``F`` then follows (16) with the given
+    ``O_left_inverse``.  The result's :meth:`~DelayUIODesign.certificate` tells
+    whether the choices were valid.
+
+    Parameters
+    ----------
+    sys
+        The delay system.
+    U
+        Unimodular ``2 n_y × 2 n_y`` with ``U M = [V; 0]``, ``M = [[CB, D], [D, 0]]``.
+    Lam
+        Unimodular ``n_y × n_y`` with ``Λ C̃ = [C̄; 0]``.
+    O_left_inverse, T_left_inverse
+        Left inverses of ``Ō_{l*}`` and ``T`` (default: the ring's reduced ones).
+    poles
+        ``l*`` rationals, the spectrum of ``A0 − G0 C0`` per channel (default ``−1, …, −l*``).
+
+    Returns
+    -------
+    DelayUIODesign
+
+    Raises
+    ------
+    DimensionError
+        ``U M`` or ``Λ C̃`` without the required zero rows, or ``poles`` of the wrong length.
+    NoPolynomialSolutionError
+        ``Vbar V = [[B, 0], [D, 0]]`` has no polynomial solution (Assumption 2 fails).
+    """
+    U_ = U if isinstance(U, PolyMatrix) else PolyMatrix(U)
+    Lam_ = Lam if isinstance(Lam, PolyMatrix) else PolyMatrix(Lam)
+    M = matching_matrix(sys)
+    if U_.shape != (M.rows, M.rows):
+        raise DimensionError(f"U is {U_.rows}×{U_.cols}; expected {M.rows}×{M.rows} (= rows of M)")
+    if Lam_.shape != (sys.n_y, sys.n_y):
+        raise DimensionError(f"Lam is {Lam_.rows}×{Lam_.cols}; expected {sys.n_y}×{sys.n_y}")
+    s12 = _steps_1_2(sys, U_, M.rank())
+    OL = None if O_left_inverse is None else PolyMatrix(O_left_inverse)
+    TL = None if T_left_inverse is None else PolyMatrix(T_left_inverse)
+    return _assemble(
+        sys, s12, Lam_, O_left_inverse=OL, T_left_inverse=TL, poles=poles, choice="given by the caller"
+    )
+
+
+# ----------------------------------------------------------------------------------------
+# the search over choices
+# ----------------------------------------------------------------------------------------
+def _candidate_Us(sys: DelaySystem) -> tuple[int, list[tuple[str, PolyMatrix]]]:
+    """The Step-1 transforms tried: the ring's Hermite transform ``U0`` and its one-step
+    neighbours ``U0 + [±e_i c_j; 0]`` (see :func:`design_zheng_bejarano`)."""
+    n, p = sys.n_x, sys.n_y
+    M = matching_matrix(sys)
+    herm = hermite(M)
+    rho = herm.rank
+    U0 = herm.U
+    out = [("U = Hermite transform of M", U0)]
+    s = 2 * p - rho
+    if rho == 0 or s == 0:
+        return rho, out
+    U_top, U_bot = U0[0:rho, 0 : 2 * p], U0[rho : 2 * p, 0 : 2 * p]
+    N_tilde = U_bot @ PolyMatrix.vstack(sys.C @ sys.A, sys.C)
+    hN = hermite(N_tilde)
+    V = herm.H[0:rho, 0 : M.cols]
+    target = PolyMatrix.vstack(
+        PolyMatrix.hstack(sys.B, _Z(n, sys.n_w)), PolyMatrix.hstack(sys.D, _Z(p, sys.n_w))
+    )
+    Vbar = solve_left(V, target)
+    useful = [i for i in range(rho) if not Vbar[0 : n + p, i : i + 1].is_zero()]
+    for j in range(hN.rank):
+        c_j = hN.U[j : j + 1, 0:s] @ U_bot  # a row of the left kernel of M
+        for i in useful:
+            for sign in (1, -1):
+                E = PolyMatrix([[1 if a == i else 0] for a in range(rho)], shape=(rho, 1))
+                U = PolyMatrix.vstack(U_top + sign * (E @ c_j), U_bot)
+                out.append((f"U = U0 {'+' if sign > 0 else '−'} e_{i + 1}·g_{j + 1} (Hermite transform moved by a w-free row)", U))
+    return rho, out
+
+
+def _lambda_choices(C_tilde: PolyMatrix) -> Iterator[tuple[str, PolyMatrix]]:
+    """Output compressions ``Λ C̃ = [C̄; 0]``: the Hermite one, then row selections
+    ``Λ = [rows S of I; left kernel of C̃]`` when unimodular (C̄ = rows S of C̃)."""
+    herm = hermite(C_tilde)
+    yield "Λ = Hermite transform of C̃", herm.U
+    p, r = C_tilde.rows, herm.rank
+    if r == 0:
+        return
+    Kc = herm.U[r:p, 0:p]
+    from itertools import combinations
+
+    for count, S in enumerate(combinations(range(p), r)):
+        if count >= 24:
+            break
+        sel = PolyMatrix([[1 if j == i else 0 for j in range(p)] for i in S], shape=(r, p))
+        Lam = PolyMatrix.vstack(sel, Kc)
+        if is_unimodular(Lam):
+            yield f"Λ = [rows {[i + 1 for i in S]} of I; left kernel of C̃]", Lam
+
+
+def design_zheng_bejarano(
+    sys: DelaySystem, poles: Sequence[Any] | None = None, *, search: bool = True
+) -> DelayUIODesign:
+    """Design the delay unknown-input observer of paper 001 (Steps 1–5, with (19′)/(22′)).
+
+    Parameters
+    ----------
+    sys
+        ``x' = A x + B w + E u``, ``y = C x + D w + F u`` over Q[δ].
+    poles
+        ``l*`` exact rationals (int, Fraction, decimal text), repeated values
+        allowed: the spectrum of ``A0 − G0 C0`` on each of the ``r`` output
+        channels.  ``G0`` is read off ``Π (s − p_i)`` (no pole placement
+        routine).  Default ``−1, −2, …, −l*``.  Their number also selects
+        ``l*`` when observers of the same smallest order ``n_z`` exist with
+        different ``l*`` (e.g. ``(r, l*) = (2, 3)`` and ``(3, 2)``).
+    search
+        Try the variants of the choices below and keep the best (default); with
+        ``False`` take the ring's Hermite transforms and reduced inverses only.
+
+    Returns
+    -------
+    DelayUIODesign
+        All matrices of Steps 1–5; ``.certificate()`` checks them exactly.
+
+    Raises
+    ------
+    NotObservableError
+        Assumption 1 or 2 fails; ``.report`` is the
+        :class:`~uio_ring.analysis.AssumptionsReport` and the message names the
+        failed assumption(s).
+    DimensionError
+        ``poles`` has a length other than ``l*`` (the message gives ``l*``).
+    DomainError
+        A pole that is not an exact rational.
+
+    Algorithm
+    ---------
+    Zheng, Bejarano, Perruquetti & Richard (2015), Steps 1–5 of §4.4, with
+    (19′)/(22′) of shared/ERRATA.md.  The choices (U, Λ, the left inverses)
+    do not change the observer's error dynamics but do change its order
+    ``n_z = r·l*`` and the lag ``deg T_L⁻¹``.  They are made as follows, to
+    minimise ``n_z`` first and then the lag:
+
+    1. *U (Step 1).*  Every valid ``W`` is ``Vbar (U_top + X U_bot)``, where
+       ``U0 = [U_top; U_bot]`` is the ring's Hermite transform of ``M`` and
+       ``U_bot`` spans the left kernel of ``M``; ``X`` changes ``Ā`` and ``C̃``
+       only through ``X Ñ``, ``Ñ = U_bot [CA; C]`` (the w-free combinations of
+       ``y`` and ``y'``).  We try ``X = 0`` and the one-step moves ``X Ñ = ±e_i g_j``
+       for each Hermite generator ``g_j`` of ``Ñ`` and each nonzero column ``i``
+       of ``Vbar`` — the moves that switch an output row on or off in ``C̃``
+       (this is how ``r`` changes between 2 and 3 in the paper's example).
+    2. *r and l*.*  For each ``U``, ``r = rank C̃`` and ``l*`` is the least
+       ``l`` with ``Ō_l`` left unimodular (only ``l ≥ n_x / r`` are tested;
+       candidates whose bound ``r·⌈n_x/r⌉`` cannot beat the best are skipped).
+       The smallest ``n_z = r·l*`` wins.
+    3. *Λ, F and T_L⁻¹.*  Among the ``U`` with the smallest ``n_z`` we try
+       ``Λ`` from the Hermite form of ``C̃`` and the row-selection ``Λ``
+       (``C̄`` = rows of ``C̃``, as in the paper), and ``F`` from (16) with the
+       reduced left inverse of ``Ō_{l*}`` and from the reduced solution of
+       ``[F_{l*}, …, F_1] Ō_{l*} = C̄ Ā^{l*}``; ``T_L⁻¹`` is the ring's reduced
+       left inverse (reduced modulo the left kernel of ``T``).  The smallest
+       lag wins, then the smallest degree of ``J``; ties keep the first tried.
+
+    Examples
+    --------
+    A delay-free chain of three integrators driven by the unknown input,
+    observed at both ends (``C B ≠ 0``, so the input is seen by ``y'``):
+
+    >>> from uio_ring import DelaySystem
+    >>> sys = DelaySystem("[[0, 1, 0], [0, 0, 1], [0, 0, 0]]", "[[0], [0], [1]]",
+    ...                   "[[1, 0, 0], [0, 0, 1]]", None)
+    >>> des = design_zheng_bejarano(sys, poles=["-1/2", "-1/2"])
+    >>> des.r, des.l_star, des.n_z, des.lag, des.certificate().ok
+    (2, 2, 4, 0, True)
+    >>> design_zheng_bejarano(sys, poles=[-1])
+    Traceback (most recent call last):
+    ...
+    uio_ring.ring.errors.DimensionError: poles has 1 value(s); expected l* = 2 (the spectrum of A0 − G0 C0 on each output channel; the smallest observer, n_z = 4, has l* = 2)
+    """
+    if not isinstance(sys, DelaySystem):
+        raise DomainError(f"design_zheng_bejarano needs a DelaySystem, not {type(sys).__name__}")
+    report = check_assumptions(sys)
+    if not report.holds:
+        raise NotObservableError(
+            "the Zheng–Bejarano observer does not exist for this system: " + report.reason,
+            report=report,
+        )
+    n = sys.n_x
+    rho, Us = _candidate_Us(sys)
+    if not search:
+        Us = Us[:1]
+    # --- stage 1: n_z = r·l* for each U (with pruning) ---
+    best_nz: int | None = None
+    scored: list[tuple[int, int, str, _Step12, tuple[int, PolyMatrix]]] = []
+    seen: list[tuple[PolyMatrix, PolyMatrix]] = []
+    for idx, (label, U) in enumerate(Us):
+        s12 = _steps_1_2(sys, U, rho)
+        if any(s12.A_bar == a and s12.C_tilde == c for a, c in seen):
+            continue
+        seen.append((s12.A_bar, s12.C_tilde))
+        r = s12.C_tilde.rank()
+        if r == 0:
+            continue
+        if best_nz is not None and r * (-(-n // r)) > best_nz:
+            continue
+        C_bar = hermite(s12.C_tilde).H[0:r, 0:n]
+        lo = _observability_index(s12.A_bar, C_bar, n)
+        if lo is None:  # pragma: no cover - Theorem 3
+            continue
+        nz = r * lo[0]
+        if best_nz is None or nz < best_nz:
+            best_nz = nz
+        scored.append((nz, idx, label, s12, lo))
+    if best_nz is None:  # pragma: no cover - Theorem 3
+        raise UioRingError(
+            "no choice of U gave a left-unimodular Ō_l although Assumptions 1 and 2 hold "
+            "(contradicts Theorem 3 of paper 001); please report this system"
+        )
+    finalists = [c for c in scored if c[0] == best_nz]
+    if poles is not None:
+        count = len(_read_poles(poles, len(poles) if isinstance(poles, Sequence) else 0))
+        matching = [c for c in finalists if c[4][0] == count]
+        if not matching:
+            options = sorted({c[4][0] for c in finalists})
+            raise DimensionError(
+                f"poles has {count} value(s); expected l* = "
+                + " or ".join(str(o) for o in options)
+                + f" (the spectrum of A0 − G0 C0 on each output channel; the smallest observer, "
+                f"n_z = {best_nz}, has l* = {' or '.join(str(o) for o in options)})"
+            )
+        finalists = matching
+    # --- stage 2: lag for the finalists ---
+    best: tuple[tuple[int, int], DelayUIODesign] | None = None
+    for _, _, label, s12, (l_star, _) in finalists:
+        lam_iter = _lambda_choices(s12.C_tilde) if search else iter([next(_lambda_choices(s12.C_tilde))])
+        for lam_label, Lam in lam_iter:
+            r = s12.C_tilde.rank()
+            C_bar = (Lam @ s12.C_tilde)[0:r, 0:n]
+            O = PolyMatrix.vstack(*[C_bar @ (s12.A_bar ** k) for k in range(l_star)])
+            OL = left_inverse(O)
+            F_variants = [("F by (16) with the reduced left inverse of Ō", None)]
+            if search:
+                X = solve_left(O, C_bar @ (s12.A_bar ** l_star))
+                F_variants.append(("F reduced modulo the left kernel of Ō", _F_from_row(X, r, l_star)))
+            for f_label, F in F_variants:
+                des = _assemble(
+                    sys, s12, Lam, l_and_O=(l_star, O), F=F, O_left_inverse=OL, poles=poles,
+                    choice=f"{label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T",
+                    assumptions=report,
+                )
+                key = (des.lag, max(0, des.J.degree()))
+                if best is None or key < best[0]:
+                    best = (key, des)
+    assert best is not None  # finalists is not empty
+    return best[1]
