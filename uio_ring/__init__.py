@@ -51,6 +51,19 @@ _LAZY: dict[str, str] = {
     "NotObservableError": "uio_ring.errors",
     "SpecError": "uio_ring.errors",
     # systems / analysis / design (issue 3) — add entries here
+    "DelaySystem": "uio_ring.systems.delay_system",
+    "delay_system": "uio_ring.systems.delay_system",
+    "unknown_input_observability": "uio_ring.analysis.observability",
+    "check_rank_condition": "uio_ring.analysis.rank_condition",
+    "check_assumptions": "uio_ring.analysis.assumptions",
+    "ObservabilityReport": "uio_ring.analysis.report",
+    "RankConditionReport": "uio_ring.analysis.report",
+    "AssumptionsReport": "uio_ring.analysis.report",
+    "ObserverDesign": "uio_ring.design.base",
+    "DelayUIODesign": "uio_ring.design.zheng_bejarano",
+    "design_zheng_bejarano": "uio_ring.design.zheng_bejarano",
+    "zheng_bejarano_from_choices": "uio_ring.design.zheng_bejarano",
+    "delay_uio_certificate": "uio_ring.verify.delay_uio",
 }
 
 __all__ = sorted(_LAZY) + ["__version__"]
