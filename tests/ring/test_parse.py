@@ -93,7 +93,7 @@ def test_other_indeterminate_text():
         ("d**", 4, r"expected .*exponent"),
         ("d**-1", 4, r"expected .*non-negative integer exponent"),
         ("d**d", 4, r"expected .*exponent"),
-        ("--d", 2, r"expected"),
+        ("d - * 2", 5, r"expected"),
     ],
 )
 def test_syntax_error_gives_column_and_expectation(text, column, expected):
@@ -104,6 +104,13 @@ def test_syntax_error_gives_column_and_expectation(text, column, expected):
     assert err.text == text
     assert text in str(err)
     assert isinstance(err, ValueError) and isinstance(err, UioRingError)
+
+
+def test_repeated_signs_follow_python():
+    """Unary signs nest as in Python and sympy: ``--d`` is d, ``1 + -2`` is −1."""
+    assert P("--d") == P("d")
+    assert P("1 + -2") == P("-1")
+    assert P("-d**2") == -P("d**2")
 
 
 def test_syntax_error_in_matrix_text_gives_column():

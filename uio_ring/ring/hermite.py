@@ -211,6 +211,16 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 rank=n,
                 pivots=tuple(range(n)),
             )
+    return hermite_by_elimination(M)
+
+
+def hermite_by_elimination(M: PolyMatrix) -> HermiteResult:
+    """:func:`hermite` without the generic fast path (for any shape; used for testing
+    the two paths against each other)."""
+    from uio_ring.ring.matrix import PolyMatrix
+
+    m, n = M.shape
+    var = M.var
     a = dn.copy(M._r)
     u = dn.identity(m)
     pivots = row_echelon(a, u, m, n)

@@ -4,8 +4,9 @@ Grammar (whitespace is ignored)::
 
     matrix := '[' row (',' row)* ']'  |  '[' ']'      (a flat '[a, b]' is one row)
     row    := '[' expr (',' expr)* ']' |  '[' ']'
-    expr   := ['+'|'-'] term (('+'|'-') term)*
-    term   := power (('*'|'/') power | power)*        (2d = 2*d; a number never follows juxtaposed)
+    expr   := term (('+'|'-') term)*
+    term   := unary (('*'|'/') unary | power)*        (2d = 2*d; a number never follows juxtaposed)
+    unary  := ('+'|'-') unary | power                 (-d**2 = -(d**2); 1 + -2 is fine)
     power  := atom [('**'|'^') ['+'] INTEGER]
     atom   := NUMBER | VAR | '(' expr ')'
 
@@ -116,13 +117,7 @@ class _Parser:
 
     # -- grammar --------------------------------------------------------------
     def expr(self) -> flint.fmpq_poly:
-        sign = 1
-        if self.tok[1] in "+-" and self.tok[0] == "op":
-            sign = -1 if self.tok[1] == "-" else 1
-            self.i += 1
         value = self.term()
-        if sign < 0:
-            value = -value
         while self.tok[0] == "op" and self.tok[1] in "+-":
             op = self.tok[1]
             self.i += 1
@@ -131,15 +126,15 @@ class _Parser:
         return value
 
     def term(self) -> flint.fmpq_poly:
-        value = self.power()
+        value = self.unary()
         while True:
             kind, tv, pos = self.tok
             if kind == "op" and tv == "*":
                 self.i += 1
-                value = value * self.power()
+                value = value * self.unary()
             elif kind == "op" and tv == "/":
                 self.i += 1
-                divisor = self.power()
+                divisor = self.unary()
                 if divisor.is_zero():
                     raise ParseError(
                         f"cannot parse {self.text!r} at column {pos + 1}: division by zero",
@@ -157,6 +152,14 @@ class _Parser:
                 value = value * self.power()  # juxtaposition: 2d, 3(d + 1); never before a number
             else:
                 return value
+
+    def unary(self) -> flint.fmpq_poly:
+        kind, tv, _ = self.tok
+        if kind == "op" and tv in "+-":
+            self.i += 1
+            value = self.unary()
+            return -value if tv == "-" else value
+        return self.power()
 
     def power(self) -> flint.fmpq_poly:
         base = self.atom()

@@ -193,6 +193,15 @@ def smith(M: PolyMatrix) -> SmithResult:
                 V=PolyMatrix._new(V, n, n, var),
                 invariant_factors=tuple(Poly._wrap(S[i][i], var) for i in range(n)),
             )
+    return smith_by_elimination(M)
+
+
+def smith_by_elimination(M: PolyMatrix) -> SmithResult:
+    """:func:`smith` without the generic fast path (any shape; for testing both paths)."""
+    from uio_ring.ring.matrix import PolyMatrix
+
+    m, n = M.shape
+    var = M.var
     u = dn.identity(m)
     vt = dn.identity(n)
     a, r = _diagonalise(dn.copy(M._r), u, vt, m, n)
@@ -233,6 +242,12 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
         if last is not None:
             one = Poly._wrap(bk.ONE, M.var)
             return (one,) * (n - 1) + (Poly._wrap(last, M.var),)
+    return invariant_factors_by_elimination(M)
+
+
+def invariant_factors_by_elimination(M: PolyMatrix) -> tuple[Poly, ...]:
+    """:func:`invariant_factors` without the generic fast path."""
+    m, n = M.shape
     a, r = _diagonalise(dn.copy(M._r), None, None, m, n)
     _fix_divisibility(a, None, None, r)
     return tuple(Poly._wrap(bk.monic(a[i][i]), M.var) for i in range(r))

@@ -1,0 +1,89 @@
+"""The certified generic fast path (evaluation/interpolation) against elimination.
+
+Both paths must give the same unique objects (H, S, invariant factors) and
+valid transforms; matrices whose invariant factors are not (1, …, 1, det) must
+make the certificate refuse, and the public functions must still be right.
+"""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from uio_ring.ring import PolyMatrix, hermite, invariant_factors, is_hermite, is_smith, is_unimodular, smith
+from uio_ring.ring._generic import generic_hermite, generic_last_factor
+from uio_ring.ring.hermite import hermite_by_elimination
+from uio_ring.ring.smith import invariant_factors_by_elimination, smith_by_elimination
+
+
+def random_matrix(rng: random.Random, n: int, deg: int, lo: int = -3, hi: int = 3) -> PolyMatrix:
+    return PolyMatrix(
+        [["+".join(f"({rng.randint(lo, hi)})*d**{e}" for e in range(deg + 1)) for _ in range(n)] for _ in range(n)]
+    )
+
+
+def random_unimodular(rng: random.Random, n: int, steps: int = 6) -> PolyMatrix:
+    """A product of elementary matrices with polynomial entries (det = ±1)."""
+    U = PolyMatrix.identity(n)
+    for _ in range(steps):
+        i, j = rng.sample(range(n), 2)
+        E = [[1 if a == b else 0 for b in range(n)] for a in range(n)]
+        E[i][j] = f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}"
+        U = PolyMatrix(E) @ U
+    return U
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(1, 9), deg=st.integers(0, 2))
+def test_generic_hermite_agrees_with_elimination(seed, n, deg):
+    M = random_matrix(random.Random(seed), n, deg)
+    got = generic_hermite(M._r, n)
+    ref = hermite_by_elimination(M)
+    if got is None:
+        # refused: then the Hermite form really is not of the shape [[I, h], [0, det]]
+        diag = [ref.H[i, i] for i in range(min(ref.rank, n))]
+        assert ref.rank < n or any(p != 1 for p in diag[:-1])
+        return
+    H, U, _ = got
+    Hm, Um = PolyMatrix._new(H, n, n, "d"), PolyMatrix._new(U, n, n, "d")
+    assert Hm == ref.H
+    assert Um @ M == Hm
+    assert Um == ref.U  # U = H M^-1 is unique for nonsingular M
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(1, 9), deg=st.integers(0, 2))
+def test_generic_smith_and_factors_agree_with_elimination(seed, n, deg):
+    M = random_matrix(random.Random(seed), n, deg)
+    s = smith(M)
+    assert s.U @ M @ s.V == s.S and is_smith(s.S)
+    assert s.invariant_factors == invariant_factors_by_elimination(M)
+    assert invariant_factors(M) == s.invariant_factors
+    assert smith_by_elimination(M).S == s.S
+
+
+@pytest.mark.parametrize("n", [6, 7, 9])
+def test_nontrivial_invariant_factors_refuse_the_certificate(n):
+    rng = random.Random(n)
+    P, Q = random_unimodular(rng, n), random_unimodular(rng, n)
+    diag = [1] * (n - 2) + ["d + 1", "(d + 1)*(d - 2)"]
+    M = P @ PolyMatrix.diag(*diag) @ Q
+    assert generic_last_factor(M._r, n) is None
+    assert generic_hermite(M._r, n) is None or is_hermite(hermite(M).H)
+    s = smith(M)
+    assert [str(f) for f in s.invariant_factors] == ["1"] * (n - 2) + ["d + 1", "d**2 - d - 2"]
+    assert s.U @ M @ s.V == s.S and is_unimodular(s.U) and is_unimodular(s.V)
+    h = hermite(M)
+    assert h.U @ M == h.H and is_hermite(h.H) and is_unimodular(h.U)
+
+
+def test_singular_square_matrix_takes_the_elimination_path():
+    rng = random.Random(7)
+    A = random_matrix(rng, 7, 1)
+    M = A[:, :6] @ PolyMatrix.hstack(PolyMatrix.identity(6), PolyMatrix([[1]] * 6))  # rank 6
+    assert generic_hermite(M._r, 7) is None
+    h = hermite(M)
+    assert h.rank == 6 and h.U @ M == h.H and is_unimodular(h.U)
