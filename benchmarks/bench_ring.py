@@ -480,7 +480,7 @@ _printed_header = False
 
 def _print_rows(header: list[str], rows: list[list[str]]) -> None:
     global _printed_header
-    widths = [max(len(h), 12) for h in header]
+    widths = [max(len(h), 18) for h in header]
     widths[0], widths[1], widths[2], widths[3] = 9, 3, 6, 18
     if not _printed_header:
         print("  ".join(h.ljust(w) for h, w in zip(header, widths, strict=True)))
