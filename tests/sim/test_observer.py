@@ -1,0 +1,169 @@
+"""The observer of paper 001 (Theorem 4) on the example of §5.
+
+Figures measured at the time of writing (dt = 1e-3, design of design_zheng_bejarano
+with poles −10, −25, −50, lag 3; the paper's printed design has lag 4):
+
+* log-error slope on [0.5, 1.5] s: −10.00 (h = 0.01) and −9.99 (h = 0.1);
+* final error at t = 3 s: 2.9e-7 (h = 0.01), 2.6e-7 (h = 0.1), i.e. 2.5e-9 relative to |x|;
+  halving dt divides it by 14–17 (order ≈ 4: it is integration error);
+* exact start: the error drops from ≥ 1e-2 to ≤ 1e-5 exactly at t = lag·h;
+* noise uniform in [−2, 2]: ‖e_noisy − e_clean‖ ≤ bound = 2 Σ_j ‖impulse response‖₁
+  = (289, 1.8, 6633, 5707) per state; observed 25–49 % of it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.sim.conftest import paper_phi, paper_w
+from uio_ring.sim import (
+    DelayObserverSimulator,
+    NotSupportedError,
+    SimulationError,
+    UniformNoise,
+    simulate,
+    simulate_observer,
+)
+from uio_ring.sim.errors import DimensionError
+
+CONST_PHI = [1.0, 0.0, -1.0, 0.5]
+
+
+def log_slope(t, e, a, b):
+    m = (t >= a) & (t <= b)
+    return np.polyfit(t[m], np.log(e[m]), 1)[0]
+
+
+@pytest.mark.parametrize("h", [0.01, 0.1])
+def test_error_converges_at_the_slowest_pole(paper_design, h):
+    """Fitted log-error slope = −10 (slowest pole) within 10 %, for both delays."""
+    r = simulate_observer(paper_design, h=h, t_final=1.6, dt=1e-3, w=paper_w, phi=CONST_PHI)
+    slope = log_slope(r.t, r.error_norm(), 0.5, 1.5)
+    assert slope == pytest.approx(-10.0, rel=0.10)
+    assert slope == pytest.approx(-10.0, rel=0.01)  # measured −10.00 / −9.99
+
+
+@pytest.mark.parametrize("h", [0.01, 0.1])
+def test_final_error_is_integration_error(paper_design, h):
+    """Noise-free: at t = 3 s the error is ≤ 1e-6 (measured 2.6–2.9e-7, 2.5e-9 relative to |x|)
+    and falls like dt⁴ on halving dt (ratio ≥ 2³; measured 14–17): integration error."""
+    finals = []
+    for dt in (1e-3, 5e-4):
+        r = simulate_observer(paper_design, h=h, t_final=3.0, dt=dt, w=paper_w, phi=CONST_PHI)
+        finals.append(r.error_norm()[-1])
+        assert finals[-1] <= 1e-8 * np.max(np.abs(r.x[:, -1])) * 1e1
+    assert finals[0] <= 1e-6
+    assert finals[0] / finals[1] >= 8.0, finals
+
+
+@pytest.mark.parametrize("which", ["paper_design", "printed_design"])
+@pytest.mark.parametrize("h", [0.01, 0.1])
+def test_estimate_is_delayed_by_lag_h(which, h, request):
+    """With the true past given to the observer, ẑ = z from t = 0, and x̂ = T_L⁻¹(δ)ẑ is right
+    exactly from t = lag·h on (0.04 s and 0.4 s for the paper's printed T_L⁻¹, lag 4)."""
+    design = request.getfixturevalue(which)
+    r = simulate_observer(design, h=h, t_final=1.0, dt=1e-3, w=paper_w, phi=paper_phi, exact_start=True)
+    e = r.error_norm()
+    k = r.lag * r.N
+    assert r.lag == (4 if which == "printed_design" else design.lag)
+    assert e[:k].max() >= 1e-2
+    assert e[k - 1] >= 10 * e[k:].max()  # the drop is at index lag·N exactly
+    assert e[k:].max() <= 1e-5
+    assert r.t[k] == pytest.approx(r.lag * h)
+
+
+def test_noise_keeps_the_error_bounded(paper_design):
+    """Uniform output noise in [−2, 2] (seeded): the change of the error is bounded, per state,
+    by 2·Σ_j ‖h_ij‖₁ (impulse responses of the discretised observer) — the exact worst case."""
+    kw = dict(h=0.01, t_final=5.0, dt=1e-3, w=paper_w, phi=CONST_PHI)
+    clean = simulate_observer(paper_design, **kw)
+    noisy = simulate_observer(paper_design, noise=UniformNoise(2.0, seed=1), **kw)
+    assert np.all(np.abs(noisy.noise) <= 2.0) and np.abs(noisy.noise).max() > 1.9
+    bound = noisy.extra["observer"].noise_gain() @ np.full(3, 2.0)
+    dev = np.abs(noisy.error - clean.error).max(axis=1)
+    assert np.all(dev <= bound * (1 + 1e-9)), (dev, bound)
+    assert np.all(dev >= 0.1 * bound)  # the bound is not vacuous (measured 25–49 %)
+    # and the noisy error itself stays below bound + the clean error, for all t
+    assert np.all(np.abs(noisy.error).max(axis=1) <= bound + np.abs(clean.error).max(axis=1))
+    assert bound == pytest.approx([289.3, 1.802, 6633, 5707], rel=0.02)
+
+
+def test_step_equals_run(paper_design):
+    """Streaming (one sample in, one estimate out) gives the numbers of the vectorised run."""
+    plant = simulate(paper_design.system, h=0.01, t_final=0.3, dt=0.002, w=paper_w, phi=CONST_PHI,
+                     noise=0.5)
+    obs = DelayObserverSimulator(paper_design, h=0.01, dt=0.002, x_hat0=[1.0, 2.0, 3.0, 4.0])
+    online = np.stack([obs.step(plant.y[:, k]) for k in range(plant.y.shape[1])], axis=1)
+    offline = obs.run(plant.y)
+    assert np.allclose(online, offline, rtol=1e-10, atol=1e-9 * np.abs(offline).max())
+    assert np.allclose(online[:, 0], [1.0, 2.0, 3.0, 4.0])  # x̂(0) = x_hat0
+    # constant memory: the buffers do not grow with the number of steps
+    assert obs._ybuf.shape[0] == obs.history_length + 1 and obs._zbuf.shape[0] == obs.lag * obs.N + 1
+    obs.reset()
+    assert np.allclose(obs.step(plant.y[:, 0]), offline[:, 0])
+
+
+def test_observer_order_against_exact_start(paper_design):
+    """The post-lag error of an exact start is pure integration error: order ≥ 3.5 (measured ≈ 3.8–4)."""
+    errs = []
+    for dt in (2e-3, 1e-3, 5e-4):
+        r = simulate_observer(paper_design, h=0.01, t_final=1.0, dt=dt, w=paper_w, phi=paper_phi,
+                              exact_start=True)
+        errs.append(r.error_norm()[r.lag * r.N :].max())
+    p = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    assert np.all(p >= 3.5), (errs, p)
+
+
+def test_simulator_matches_design_interface(paper_design):
+    obs = DelayObserverSimulator(paper_design, h=0.1, dt=0.01)
+    assert (obs.n_z, obs.n_x, obs.n_y, obs.lag) == (paper_design.n_z, 4, 3, paper_design.lag)
+    assert "lag=" in repr(obs)
+
+
+def test_bad_observer_input(paper_design):
+    obs = DelayObserverSimulator(paper_design, h=0.01, dt=0.001)
+    with pytest.raises(SimulationError, match=r"y_k is not finite"):
+        obs.step([0.0, np.nan, 0.0])
+    with pytest.raises(DimensionError, match=r"y_k has shape \(2,\); expected \(3,\)"):
+        obs.step([0.0, 0.0])
+    with pytest.raises(SimulationError, match=r"y is not finite at index \(1, 4\)"):
+        y = np.zeros((3, 10))
+        y[1, 4] = np.inf
+        obs.run(y)
+    with pytest.raises(DimensionError, match=r"y has shape \(10, 3\); expected \(3, T\)"):
+        obs.run(np.zeros((10, 3)))
+    with pytest.raises(DimensionError, match="u_k was given"):
+        obs.step([0.0, 0.0, 0.0], u_k=[1.0])
+    with pytest.raises(SimulationError, match=r"dt=0.0015 is not h/N"):
+        DelayObserverSimulator(paper_design, h=0.01, dt=0.0015)
+    with pytest.raises(DimensionError, match=r"x_hat0 has shape \(3,\); expected \(4,\)"):
+        DelayObserverSimulator(paper_design, h=0.01, dt=0.001, x_hat0=[1, 2, 3])
+
+
+def test_design_and_plant_with_different_h(paper_design):
+    from uio_ring import DelaySystem
+
+    s = paper_design.system
+    plant = DelaySystem(s.A, s.B, s.C, s.D, h="0.1")
+    with pytest.raises(SimulationError, match=r"h=0.01 differs from the h=1/10 of sys"):
+        simulate_observer(paper_design, plant, h=0.01, t_final=0.1, dt=0.001)
+    design_h = type("D", (), {k: getattr(paper_design, k) for k in
+                              ("L0", "J", "H", "Lam", "T", "T_left_inverse", "system")})()
+    design_h.h = "0.1"
+    with pytest.raises(SimulationError, match=r"h=0.01 differs from the h=0.1 of the design"):
+        simulate_observer(design_h, s, h=0.01, t_final=0.1, dt=0.001)
+
+
+def test_known_inputs_are_refused(paper_design):
+    from uio_ring import DelaySystem
+
+    s = paper_design.system
+    with_u = DelaySystem(s.A, s.B, s.C, s.D, E="[[1],[0],[0],[0]]", F="[[0],[0],[0]]")
+    with pytest.raises(NotSupportedError, match=r"known input \(nonzero E\)"):
+        simulate_observer(paper_design, with_u, h=0.01, t_final=0.1, dt=0.001)
+
+
+def test_exact_start_needs_callable_w(paper_design):
+    with pytest.raises(SimulationError, match="w: exact_start=True needs w as a callable"):
+        simulate_observer(paper_design, h=0.01, t_final=0.05, dt=0.001, w=np.zeros((2, 51)), exact_start=True)

@@ -1,0 +1,79 @@
+"""The one place where exact coefficients become float64.
+
+The ring never sees a float: :func:`coefficient_arrays` reads the exact
+coefficients of a polynomial matrix (``M.coefficient_lists()``, nested lists of
+:class:`fractions.Fraction`) and returns them as one float64 array.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from uio_ring.sim.errors import SimulationError
+
+__all__ = ["coefficient_arrays", "poly_matmul", "eval_at_one"]
+
+
+def coefficient_arrays(M: Any, *, name: str = "matrix") -> np.ndarray:
+    """Coefficients of ``M = Σ_i M_i δ^i`` as a float64 array of shape ``(deg + 1, rows, cols)``.
+
+    ``M`` is a :class:`~uio_ring.ring.matrix.PolyMatrix` (or anything with
+    ``coefficient_lists()`` and ``shape``).  The zero matrix (degree −1) gives
+    shape ``(0, rows, cols)``.  A plain array (2-D constant or 3-D stack of
+    coefficients) is accepted for convenience.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> coefficient_arrays(PolyMatrix([["d", "1/2"]]))
+    array([[[0. , 0.5]],
+    <BLANKLINE>
+           [[1. , 0. ]]])
+    >>> coefficient_arrays(PolyMatrix.zeros(2, 3)).shape
+    (0, 2, 3)
+    """
+    if hasattr(M, "coefficient_lists"):
+        rows, cols = M.shape
+        lists = M.coefficient_lists()
+        arr = np.zeros((len(lists), rows, cols))
+        for k, coeff in enumerate(lists):
+            for i, row in enumerate(coeff):
+                for j, c in enumerate(row):
+                    arr[k, i, j] = float(c)
+    else:
+        try:
+            arr = np.asarray(M, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise SimulationError(f"{name}: cannot read {type(M).__name__} as a polynomial matrix") from exc
+        if arr.ndim == 2:
+            arr = arr[None]
+        if arr.ndim != 3:
+            raise SimulationError(f"{name}: expected a polynomial matrix, got an array of shape {arr.shape}")
+    # trim trailing zero coefficients: deg + 1 rows exactly
+    nz = [k for k in range(arr.shape[0]) if np.any(arr[k])]
+    deg = nz[-1] if nz else -1
+    arr = arr[: deg + 1]
+    if not np.all(np.isfinite(arr)):
+        raise SimulationError(f"{name}: coefficients are not finite")
+    return np.ascontiguousarray(arr)
+
+
+def poly_matmul(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Product of two coefficient stacks: ``(PQ)_k = Σ_{i+j=k} P_i Q_j``.
+
+    >>> P = np.array([[[1.0]], [[2.0]]]); poly_matmul(P, P)[:, 0, 0]
+    array([1., 4., 4.])
+    """
+    if P.shape[0] == 0 or Q.shape[0] == 0:
+        return np.zeros((0, P.shape[1], Q.shape[2]))
+    out = np.zeros((P.shape[0] + Q.shape[0] - 1, P.shape[1], Q.shape[2]))
+    for i in range(P.shape[0]):
+        for j in range(Q.shape[0]):
+            out[i + j] += P[i] @ Q[j]
+    nz = [k for k in range(out.shape[0]) if np.any(out[k])]
+    return out[: (nz[-1] + 1 if nz else 0)]
+
+
+def eval_at_one(P: np.ndarray, rows: int, cols: int) -> np.ndarray:
+    """``P(1) = Σ_i P_i``: the action of ``P(δ)`` on a constant signal."""
+    return P.sum(axis=0) if P.shape[0] else np.zeros((rows, cols))
