@@ -1,0 +1,96 @@
+"""History buffer, scan kernel, plotting, and the lightness of ``import uio_ring``."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from tests.sim.conftest import paper_w
+from uio_ring.sim import HistoryBuffer, SimulationError, simulate, simulate_observer
+from uio_ring.sim._expint import LinearScan, stencil_weights
+from uio_ring.sim.errors import DimensionError
+
+
+def test_history_lookup_is_exact_and_wraps():
+    buf = HistoryBuffer(2, h=0.5, dt=0.125, max_delay=2, phi=lambda t: np.array([t, 2 * t]))
+    assert buf.capacity == 2 * 4 + 1
+    assert np.array_equal(buf.lookup(2), [-1.0, -2.0]) and np.array_equal(buf.lookup(0), [0.0, 0.0])
+    for k in range(1, 30):  # many wraps of the ring
+        buf.push([k * 0.125, k * 0.25])
+        assert buf.lookup(1) == pytest.approx([k * 0.125 - 0.5, k * 0.25 - 1.0])
+        assert buf.lookup(2) == pytest.approx([k * 0.125 - 1.0, k * 0.25 - 2.0])
+    assert buf.t_now == pytest.approx(29 * 0.125)
+    assert buf.window(3)[:, 0] == pytest.approx([27 * 0.125, 28 * 0.125, 29 * 0.125])
+
+
+@pytest.mark.parametrize(
+    "phi", [np.array([1.0, 2.0]), lambda t: np.array([1.0, 2.0]), np.tile([[1.0], [2.0]], (1, 5))]
+)
+def test_history_forms(phi):
+    buf = HistoryBuffer(2, h=1.0, dt=0.25, max_delay=1, phi=phi)
+    assert np.array_equal(buf.window(5), np.tile([1.0, 2.0], (5, 1)))
+
+
+def test_history_errors():
+    with pytest.raises(DimensionError, match=r"phi has shape \(2, 4\); expected .*\(2, 5\)"):
+        HistoryBuffer(2, h=1.0, dt=0.25, max_delay=1, phi=np.zeros((2, 4)))
+    with pytest.raises(SimulationError, match="dt=0.3 is not h/N"):
+        HistoryBuffer(2, h=1.0, dt=0.3, max_delay=1)
+    buf = HistoryBuffer(1, h=1.0, dt=0.5, max_delay=1)
+    with pytest.raises(SimulationError, match="reaches 4 samples back; the buffer holds 3"):
+        buf.lookup(2)
+    with pytest.raises(DimensionError, match=r"sample has shape"):
+        buf.push([1.0, 2.0])
+
+
+def test_linear_scan_matches_the_loop():
+    rng = np.random.default_rng(0)
+    Phi = np.eye(3) * 0.9 + 0.05 * rng.standard_normal((3, 3))
+    g = rng.standard_normal((1000, 3))
+    x = rng.standard_normal(3)
+    ref = np.empty_like(g)
+    for j in range(len(g)):
+        x_prev = x if j == 0 else ref[j - 1]
+        ref[j] = Phi @ x_prev + g[j]
+    for chunk in (4, 16, 64):
+        assert np.allclose(LinearScan(Phi, chunk=chunk).run(x, g), ref, rtol=1e-12, atol=1e-12)
+
+
+def test_stencil_weights_integrate_cubics_exactly():
+    """∫_0^dt e^{A(dt−s)} p(s) ds for cubic p: the weights reproduce the exact integral."""
+    from scipy.integrate import quad_vec
+    from scipy.linalg import expm
+
+    A = np.array([[-1.0, 2.0], [0.0, -3.0]])
+    dt = 0.1
+    p = lambda s: np.array([1 + s - 3 * s**3, 2 * s**2])  # noqa: E731
+    nodes = (-2, -1, 0, 1)
+    W = stencil_weights(A * dt, dt, nodes)
+    approx = sum(W[m] @ p(q * dt) for m, q in enumerate(nodes))
+    exact = quad_vec(lambda s: expm(A * (dt - s)) @ p(s), 0, dt, epsabs=1e-15)[0]
+    assert np.allclose(approx, exact, rtol=1e-12, atol=1e-15)
+
+
+def test_plot_observer_and_plant(paper_design):
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    r = simulate_observer(paper_design, h=0.01, t_final=0.2, dt=0.001, w=paper_w, phi=[1, 0, 0, 0])
+    fig = r.plot(figsize=(6, 4))
+    ax_err = fig.axes[1]
+    assert ax_err.get_yscale() == "log" and len(fig.axes[0].lines) == 8
+    p = simulate(paper_design.system, h=0.01, t_final=0.2, dt=0.001, w=paper_w).plot()
+    assert len(p.axes[1].lines) == 3
+    plt.close("all")
+
+
+def test_import_uio_ring_stays_light():
+    code = "import sys, uio_ring, uio_ring.plot; print('numpy' in sys.modules, 'matplotlib' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "False"]
