@@ -35,7 +35,7 @@ from uio_ring.errors import DimensionError, DomainError, NotObservableError, Uio
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.hermite import hermite
 from uio_ring.ring.inverse import is_left_unimodular, is_unimodular, left_inverse
-from uio_ring.ring.matrix import Poly, PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
 from uio_ring.ring.solve import solve_left
 from uio_ring.systems.delay_system import DelaySystem
@@ -629,7 +629,9 @@ def design_zheng_bejarano(
             C_bar = (Lam @ s12.C_tilde)[0:r, 0:n]
             O = PolyMatrix.vstack(*[C_bar @ (s12.A_bar ** k) for k in range(l_star)])
             OL = left_inverse(O)
-            F_variants = [("F by (16) with the reduced left inverse of Ō", None)]
+            F_variants: list[tuple[str, PolyMatrix | None]] = [
+                ("F by (16) with the reduced left inverse of Ō", None)
+            ]
             if search:
                 X = solve_left(O, C_bar @ (s12.A_bar ** l_star))
                 F_variants.append(("F reduced modulo the left kernel of Ō", _F_from_row(X, r, l_star)))

@@ -63,8 +63,8 @@ def _names(value: NamesLike, count: int, prefix: str, what: str) -> tuple[str, .
         if value != count:
             raise DimensionError(f"{what}={value} but the system has {count} of them")
         return tuple(f"{prefix}[{i}]" for i in range(count))
-    if isinstance(value, str):
-        raise DomainError(f"{what} must be a list of names, not the string {value!r}")
+    if isinstance(value, (str, bool)) or not isinstance(value, Sequence):
+        raise DomainError(f"{what} must be a list of names or a count, not {value!r}")
     names = tuple(value)
     if len(names) != count:
         raise DimensionError(f"{what} has {len(names)} names; expected {count}")

@@ -1,0 +1,274 @@
+"""The Zheng–Bejarano delay UIO (uio_ring.design.zheng_bejarano): paper 001, Section 5,
+the delay-free special cases, and random systems."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from fractions import Fraction
+
+import pytest
+import sympy
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from uio_ring import (
+    DelaySystem,
+    DelayUIODesign,
+    DimensionError,
+    DomainError,
+    NotObservableError,
+    PolyMatrix,
+    check_assumptions,
+    design_zheng_bejarano,
+    is_unimodular,
+    zheng_bejarano_from_choices,
+)
+
+from . import paper001 as P
+
+THM4 = "Theorem 4: e' − L0 e = 0"
+
+
+@pytest.fixture(scope="module")
+def paper_design() -> DelayUIODesign:
+    return design_zheng_bejarano(P.system(), poles=P.POLES)
+
+
+@pytest.fixture(scope="module")
+def paper_choices() -> DelayUIODesign:
+    """The paper's own choices: its U, Λ, Ō_L⁻¹ and T_L⁻¹."""
+    return zheng_bejarano_from_choices(
+        P.system(), U=P.U, Lam=P.LAM, O_left_inverse=P.O3_LEFT_INVERSE,
+        T_left_inverse=P.T_LEFT_INVERSE, poles=P.POLES,
+    )
+
+
+# -- Section 5 ------------------------------------------------------------------------
+def test_paper_example_certificate_ok(paper_design):
+    cert = paper_design.certificate()
+    assert cert.ok, str(cert)
+    assert paper_design.n_z <= 6 and paper_design.lag <= 4
+    assert paper_design.n_z == paper_design.r * paper_design.l_star
+
+
+def test_paper_example_unique_quantities(paper_design):
+    assert paper_design.V == P.V  # normalised Hermite form: unique
+    assert paper_design.V.rows == 3  # rank M = 3
+    assert paper_design.Vbar == P.VBAR  # V has full row rank: unique
+
+
+def test_paper_example_spectrum_with_paper_gain(paper_design):
+    assert (paper_design.r, paper_design.l_star) == (2, 3)  # three poles select l* = 3
+    assert paper_design.G0 == P.G0 and paper_design.L0 == P.L0
+    assert paper_design.poles == (Fraction(-10), Fraction(-25), Fraction(-50))
+    assert paper_design.certificate()["spectrum of A0 − G0 C0"].ok
+
+
+def test_paper_example_default_design_beats_the_paper():
+    des = design_zheng_bejarano(P.system())
+    assert des.certificate().ok
+    assert des.n_z == 6
+    assert des.lag < 4  # the paper's T_L⁻¹ has degree 4
+    assert des.lag == des.T_left_inverse.degree() or des.lag == 0
+
+
+def test_paper_example_without_search_is_the_papers_shape():
+    des = design_zheng_bejarano(P.system(), search=False)
+    assert des.certificate().ok
+    assert (des.r, des.l_star, des.n_z) == (2, 3, 6)
+
+
+def test_paper_choices_reproduce_the_printed_matrices(paper_choices):
+    d = paper_choices
+    assert d.certificate().ok, str(d.certificate())
+    assert d.W == P.W and d.A_bar == P.A_BAR and d.C_tilde == P.C_TILDE
+    assert d.C_bar == P.C_BAR and d.O == P.O3 and d.F == P.F and d.T == P.T
+    assert PolyMatrix.hstack(d.K1_bar, d.K2_bar) == P.K_BAR
+    assert PolyMatrix.hstack(d.Gamma1_bar, d.Gamma2_bar) == P.GAMMA_BAR
+    assert d.H == P.H and d.L0 == P.L0 and d.G0 == P.G0
+    assert d.lag == 4
+
+
+def test_paper_J_printed_is_wrong_and_corrected_J_is_right(paper_choices):
+    assert paper_choices.J == P.J_CORRECTED
+    assert paper_choices.J != P.J_PRINTED
+    diff = paper_choices.J - P.J_PRINTED
+    nonzero = [(i, j) for i in range(6) for j in range(3) if not diff[i, j].is_zero()]
+    assert nonzero == [(4, 2), (5, 2)]  # J(5,3) and J(6,3), 1-based
+
+
+def test_design_with_printed_J_fails_theorem_4(paper_choices):
+    bad = dataclasses.replace(paper_choices, J=P.J_PRINTED)
+    cert = bad.certificate()
+    assert not cert.ok
+    check = cert[THM4]
+    assert not check.ok
+    # the error is driven by the unknown input: the w-coefficient is nonzero
+    assert "w" in check.residual and not check.residual["w"].is_zero()
+
+
+# -- poles -------------------------------------------------------------------------------
+def test_default_poles():
+    des = design_zheng_bejarano(P.system())
+    assert des.poles == tuple(Fraction(-(i + 1)) for i in range(des.l_star))
+
+
+def test_repeated_and_decimal_poles():
+    des = design_zheng_bejarano(P.system(), poles=["-0.5", "-0.5", -3])
+    assert des.poles == (Fraction(-1, 2), Fraction(-1, 2), Fraction(-3))
+    assert des.certificate().ok
+
+
+@pytest.mark.parametrize("poles", [[-1], [-1, -2, -3, -4]])
+def test_wrong_number_of_poles_names_l_star(poles):
+    with pytest.raises(DimensionError, match=r"expected l\* = "):
+        design_zheng_bejarano(P.system(), poles=poles)
+
+
+def test_non_rational_pole():
+    with pytest.raises(DomainError):
+        design_zheng_bejarano(P.system(), poles=["sqrt(2)", -1, -2])
+
+
+def test_unstable_poles_fail_the_hurwitz_check():
+    des = design_zheng_bejarano(P.system(), poles=[1, -1, -2])
+    cert = des.certificate()
+    assert not cert.ok and [c.name for c in cert.failed] == ["A0 − G0 C0 Hurwitz"]
+
+
+# -- the δ-degree-0 case ----------------------------------------------------------------------
+def test_paper_example_at_delta_zero():
+    sys0 = P.system().at_delta(0)
+    rep = check_assumptions(sys0)
+    assert rep.holds  # checked first: both assumptions hold for the δ = 0 system
+    des = design_zheng_bejarano(sys0, poles=[-1, -2, -3])
+    assert des.certificate().ok
+    assert des.lag == 0 and des.T_left_inverse.degree() <= 0
+    assert all(getattr(des, name).degree() <= 0 for name in ("L0", "H", "J", "Lam", "T"))
+
+
+def test_delay_free_hautus_type_observer():
+    # strongly observable, rank condition (3): x1' = x2, x2' = x1 + x3, x3' = −x3 + w;
+    # y = (x1, x3).  y ≡ 0 forces x1 = x2 = 0, then x3 = 0 and w = 0.
+    sys = DelaySystem("[[0, 1, 0], [1, 0, 1], [0, 0, -1]]", "[[0], [0], [1]]",
+                      "[[1, 0, 0], [0, 0, 1]]", None)
+    rep = check_assumptions(sys)
+    assert rep.holds
+    assert rep.rank_condition.hautus_rank_condition
+    des = design_zheng_bejarano(sys)
+    assert des.certificate().ok and des.lag == 0
+    # Hautus form ξ' = P ξ + Q y, x̂ = T_L⁻¹ (ξ + K y): everything constant
+    assert all(getattr(des, n).degree() <= 0 for n in ("L0", "J", "H", "T_left_inverse"))
+
+
+def test_paper_003_refused_naming_assumption_2():
+    from analysis.paper003 import system
+
+    with pytest.raises(NotObservableError, match="Assumption 2") as info:
+        design_zheng_bejarano(system())
+    report = info.value.report
+    assert "Assumption 2" in report.failed
+    assert not report.rank_condition.holds
+
+
+# -- known inputs ------------------------------------------------------------------------------
+def test_known_input_terms_certified():
+    s = P.system()
+    sys = DelaySystem(s.A, s.B, s.C, s.D, E="[[1], [0], [d], [0]]", F="[[0], [1], [d]]")
+    des = design_zheng_bejarano(sys)
+    cert = des.certificate()
+    assert cert.ok, str(cert)
+    assert not des.J_u.is_zero() and des.H_u.shape == (des.n_z, 1)
+
+
+# -- the object ----------------------------------------------------------------------------------
+def test_attribute_names(paper_design):
+    names = ("U V Vbar W K Gamma K1 K2 Gamma1 Gamma2 A_bar C_tilde Lam C_bar r l_star O "
+             "O_left_inverse F T T_left_inverse A0 C0 K1_bar K2_bar Gamma1_bar Gamma2_bar G0 L0 "
+             "H J n_z lag").split()
+    for name in names:
+        assert hasattr(paper_design, name), name
+    assert is_unimodular(paper_design.Lam) and is_unimodular(paper_design.U)
+
+
+def test_display_and_dict(paper_design):
+    assert "n_z = 6" in str(paper_design)
+    assert repr(paper_design).startswith("DelayUIODesign(n_z=6")
+    assert paper_design._repr_latex_().startswith("$$") and r"\delta" in paper_design._repr_latex_()
+    data = paper_design.to_dict()
+    json.dumps(data)
+    assert data["n_z"] == 6 and data["matrices"]["L0"][0][0] == "-85"
+
+
+def test_not_a_system():
+    with pytest.raises(DomainError):
+        design_zheng_bejarano("A")  # type: ignore[arg-type]
+
+
+# -- random systems --------------------------------------------------------------------------------
+@st.composite
+def generic_systems(draw):
+    """Small systems with δ anywhere: most are refused (non-unit invariant factors)."""
+    n = draw(st.integers(1, 4))
+    m = draw(st.integers(1, 2))
+    p = draw(st.integers(m, m + 1))
+    dense = st.sampled_from(["0", "1", "-1", "2", "d", "d + 1", "-d", "1 - d"])
+    sparse = st.sampled_from(["0", "0", "0", "1", "d", "-1"])
+
+    def mat(r, c, s):
+        return [[draw(s) for _ in range(c)] for _ in range(r)]
+
+    return DelaySystem(mat(n, n, dense), mat(n, m, dense), mat(p, n, dense), mat(p, m, sparse))
+
+
+@st.composite
+def state_delay_systems(draw):
+    """Delays in A only, constant B, C, D: about a third satisfy both assumptions."""
+    n = draw(st.integers(2, 4))
+    m = draw(st.integers(1, 2))
+    p = m + 1
+    poly = st.sampled_from(["0", "0", "1", "-1", "d", "-d", "1 - d", "d**2"])
+    const = st.sampled_from([0, 0, 1, -1, 2])
+
+    def mat(r, c, s):
+        return [[draw(s) for _ in range(c)] for _ in range(r)]
+
+    D = mat(p, m, st.sampled_from([0, 0, 0, 1]))
+    return DelaySystem(mat(n, n, poly), mat(n, m, const), mat(p, n, const), D)
+
+
+random_systems = st.one_of(generic_systems(), state_delay_systems())
+
+
+def _independently_confirmed(sys, report) -> bool:
+    """Confirm a refusal with sympy only (determinantal divisors, V* at generic points)."""
+    from independent import determinantal_factors, system_at, weakly_unobservable_dim
+
+    ok = False
+    if "Assumption 2" in report.failed:
+        rc = report.rank_condition
+        ok |= determinantal_factors(rc.M) != determinantal_factors(rc.M_with_B)
+    if "Assumption 1" in report.failed:
+        obs = report.observability
+        if obs.rank < sys.n_x:
+            dims = [weakly_unobservable_dim(*system_at(sys, v)) for v in (sympy.Rational(7, 3), sympy.Rational(-11, 5), 13)]
+            ok |= min(dims) > 0
+        else:
+            facs = determinantal_factors(obs.N[obs.k_star])
+            ok |= len(facs) == sys.n_x and any(f.degree() > 0 for f in facs)
+    return ok
+
+
+@settings(max_examples=60)
+@given(random_systems)
+def test_random_systems_certified_or_refused_for_a_reason(sys):
+    try:
+        des = design_zheng_bejarano(sys)
+    except NotObservableError as exc:
+        assert exc.report.failed, "a refusal must name a failed assumption"
+        assert _independently_confirmed(sys, exc.report), str(exc.report)
+        return
+    cert = des.certificate()
+    assert cert.ok, str(cert)
+    assert des.n_z == des.r * des.l_star >= sys.n_x
