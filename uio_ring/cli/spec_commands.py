@@ -1,0 +1,228 @@
+"""``uio-ring check | design | simulate | schema`` — the main job, driven by spec files.
+
+    $ uio-ring design examples/zheng2015.yaml
+    $ uio-ring simulate examples/zheng2015.yaml --out results/
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+
+def add_parser(sub: Any) -> None:
+    p = sub.add_parser("check", help="structural report only (assumptions, invariants)")
+    p.add_argument("spec", help="spec file (YAML)")
+    p.set_defaults(run=_run_check)
+
+    p = sub.add_parser("design", help="check, design, certify; write the design as JSON and YAML")
+    p.add_argument("spec", help="spec file (YAML)")
+    _output_options(p)
+    p.add_argument("--latex", metavar="FILE", help="also write the design as a LaTeX file")
+    p.set_defaults(run=_run_design)
+
+    p = sub.add_parser("simulate", help="design and simulate; write CSV/NPZ of t, x, y, x̂, error and PNG plots")
+    p.add_argument("spec", help="spec file (YAML) with a 'simulate' section")
+    _output_options(p)
+    p.add_argument("--npz", action="store_true", help="write NPZ instead of CSV")
+    p.add_argument("--no-plot", action="store_true", help="do not write PNG plots")
+    p.add_argument("--progress", dest="progress", action="store_true", default=None, help="force a progress bar")
+    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    p.set_defaults(run=_run_simulate)
+
+    p = sub.add_parser("schema", help="print the JSON Schema of spec files")
+    p.set_defaults(run=_run_schema)
+
+
+def _output_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", metavar="DIR", help="output directory (default: the spec's output.directory, else ./uio-ring-out/<spec name>)")
+    p.add_argument("--quiet", action="store_true", help="print only the summary")
+
+
+def _out_dir(args: argparse.Namespace, spec: Any) -> Path:
+    if args.out:
+        return Path(args.out)
+    if spec.output.directory:
+        base = Path(spec.source).parent if spec.source else Path(".")
+        return base / spec.output.directory
+    return Path("uio-ring-out") / (spec.name or "design")
+
+
+def _rule(title: str) -> str:
+    return f"\n== {title} " + "=" * max(0, 60 - len(title))
+
+
+def _checks(spec: Any) -> list[tuple[str, Any]]:
+    from uio_ring.design.methods import METHODS, get_method
+
+    names = list(METHODS) if spec.design.method == "auto" else [spec.design.method]
+    out = []
+    for name in names:
+        method = get_method(name)
+        if method.delay_free_only and not spec.system.is_delay_free:
+            continue
+        out.append((name, method.check(spec.system)))
+    return out
+
+
+def _run_check(args: argparse.Namespace) -> int:
+    from uio_ring.spec import load_spec
+
+    spec = load_spec(args.spec)
+    system = spec.system
+    print(f"{spec.name}: n_x = {system.n_x}, n_w = {system.n_w}, n_u = {system.n_u}, n_y = {system.n_y}, "
+          f"δ-degree {system.max_delay_degree}, h = {system.h}")
+    any_ok = False
+    for name, report in _checks(spec):
+        print(_rule(f"method {name}: {'applicable' if report.holds else 'NOT applicable'}"))
+        print(report)
+        any_ok = any_ok or report.holds
+    return 0 if any_ok else 1
+
+
+def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
+    from uio_ring.design.methods import design_auto, design_with
+
+    if spec.design.method == "auto":
+        res = design_auto(spec.system, spec.design.options)
+        return res.design, res.method, res.skipped
+    return design_with(spec.design.method, spec.system, spec.design.options), spec.design.method, ()
+
+
+def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, quiet: bool) -> None:
+    if not quiet:
+        report = getattr(design, "assumptions", None)
+        if report is not None:
+            print(_rule("assumptions"))
+            print(report)
+        print(_rule(f"design ({method})"))
+        for name, why in skipped:
+            print(f"auto skipped {name}: {why}")
+        print(design)
+        print(_rule("certificate"))
+        print(cert)
+    print()
+    line = f"{spec.name}: method {method}, certificate {'ok' if cert.ok else 'FAILED'}"
+    if hasattr(design, "n_z"):
+        line += f", n_z = {design.n_z}"
+    if hasattr(design, "lag"):
+        h = spec.system.h
+        line += f", lag = {design.lag}" + (f" (estimate delayed by {float(design.lag * h):g} s)" if h else "")
+    print(line)
+
+
+def _run_design(args: argparse.Namespace) -> int:
+    from uio_ring.spec import load_spec, save_design
+
+    spec = load_spec(args.spec)
+    design, method, skipped = _design(spec)
+    cert = design.certificate()
+    _print_design(spec, design, method, skipped, cert, args.quiet)
+    formats = [f for f in (spec.output.formats or ("json", "yaml")) if f in ("json", "yaml", "latex")]
+    paths = save_design(design, _out_dir(args, spec) / (spec.name or "design"), formats=formats)
+    if args.latex:
+        Path(args.latex).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.latex).write_text(design.to_latex() + "\n", encoding="utf-8")
+        paths.append(Path(args.latex))
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0 if cert.ok else 1
+
+
+def _run_simulate(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from uio_ring.errors import SpecError
+    from uio_ring.spec import load_spec, save_design
+
+    spec = load_spec(args.spec)
+    if spec.simulate is None:
+        raise SpecError("the spec has no 'simulate' section (t_final, dt, inputs)", path="simulate")
+    design, method, skipped = _design(spec)
+    cert = design.certificate()
+    _print_design(spec, design, method, skipped, cert, True)
+    sim = spec.simulate
+    result = _simulate(design, spec, args.progress)
+    out = _out_dir(args, spec)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = out / (spec.name or "simulation")
+    paths = save_design(design, stem, formats=("json",))
+    paths.append(_write_signals(result, stem, npz=args.npz or "npz" in spec.output.formats))
+    if not args.no_plot:
+        paths.append(_write_plot(result, stem, spec.name))
+    t = result.t
+    settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2
+    err = np.max(np.abs(result.error), axis=0)
+    after = err[t >= settle]
+    print(
+        f"{spec.name}: simulated {t[-1]:g} s with dt = {float(sim.dt):g} ({len(t) - 1} steps); "
+        f"final error {err[-1]:.3g}, max error after t = {settle:g} s: {after.max() if after.size else float('nan'):.3g}"
+    )
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0 if cert.ok else 1
+
+
+def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
+    from uio_ring.sim import simulate_observer
+
+    sim = spec.simulate
+    phi = sim.signal("phi")
+    x_hat0 = None if sim.x_hat0 is None else [float(v) for v in sim.x_hat0]
+    return simulate_observer(
+        design,
+        spec.system,
+        h=float(sim.h),
+        t_final=float(sim.t_final),
+        dt=float(sim.dt),
+        w=sim.signal("w"),
+        u=sim.signal("u"),
+        phi=phi,
+        noise=sim.noise(),
+        x_hat0=x_hat0,
+        progress=progress,
+    )
+
+
+def _write_signals(result: Any, stem: Path, *, npz: bool) -> Path:
+    import numpy as np
+
+    names = list(result.state_names) or [f"x[{i}]" for i in range(result.x.shape[0])]
+    ynames = list(result.output_names) or [f"y[{i}]" for i in range(result.y.shape[0])]
+    columns = {"t": result.t}
+    columns.update({n: result.x[i] for i, n in enumerate(names)})
+    columns.update({n: result.y[i] for i, n in enumerate(ynames)})
+    columns.update({f"xhat_{n}": result.x_hat[i] for i, n in enumerate(names)})
+    columns.update({f"error_{n}": result.error[i] for i, n in enumerate(names)})
+    if npz:
+        path = stem.with_suffix(".npz")
+        np.savez_compressed(path, t=result.t, x=result.x, y=result.y, x_hat=result.x_hat, error=result.error)
+        return path
+    path = stem.with_suffix(".csv")
+    data = np.column_stack(list(columns.values()))
+    np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.10g")
+    return path
+
+
+def _write_plot(result: Any, stem: Path, title: str) -> Path:
+    from uio_ring.errors import require
+
+    matplotlib = require("matplotlib", extra="plot")
+    matplotlib.use("Agg")
+    fig = result.plot(title=title)
+    fig = getattr(fig, "figure", fig)
+    path = stem.with_suffix(".png")
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return path
+
+
+def _run_schema(args: argparse.Namespace) -> int:
+    from uio_ring.spec import schema
+
+    json.dump(schema(), sys.stdout, indent=2)
+    print()
+    return 0

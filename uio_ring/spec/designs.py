@@ -1,0 +1,157 @@
+"""Saving designs to JSON/YAML (exact values as strings) and loading them back.
+
+``load_design(save_design(d, ...)[0]) == d`` for every design class: the files
+hold every field of the design dataclass (matrices as lists of polynomial
+strings, with their shapes so that empty matrices keep them).
+
+>>> import tempfile, pathlib
+>>> from uio_ring import DelaySystem, design_zheng_bejarano
+>>> d = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None))
+>>> folder = pathlib.Path(tempfile.mkdtemp())
+>>> paths = save_design(d, folder / "demo", formats=("json", "yaml"))
+>>> [p.suffix for p in paths], load_design(paths[0]) == d, load_design(paths[1]) == d
+(['.json', '.yaml'], True, True)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from collections.abc import Sequence
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from uio_ring.errors import SpecError
+
+__all__ = ["design_to_data", "design_from_data", "save_design", "load_design"]
+
+FORMAT_VERSION = 1
+
+
+def _design_classes() -> dict[str, type]:
+    from uio_ring.design.base import ObserverDesign
+    from uio_ring.design.zheng_bejarano import DelayUIODesign  # noqa: F401  (registers the subclass)
+
+    out: dict[str, type] = {}
+    stack = list(ObserverDesign.__subclasses__())
+    while stack:
+        cls = stack.pop()
+        stack.extend(cls.__subclasses__())
+        if getattr(cls, "method", ""):
+            out[cls.method] = cls
+    return out
+
+
+def _encode(value: Any) -> Any:
+    from uio_ring.ring.matrix import PolyMatrix
+    from uio_ring.systems.delay_system import DelaySystem
+
+    if isinstance(value, PolyMatrix):
+        return {"shape": list(value.shape), "rows": [[str(p) for p in row] for row in value.tolist()]}
+    if isinstance(value, DelaySystem):
+        return {"system": value.to_dict(), "shapes": {k: list(M.shape) for k, M in value.matrices().items()}}
+    if isinstance(value, Fraction):
+        return str(value)
+    if isinstance(value, (tuple, list)):
+        return [_encode(v) for v in value]
+    if isinstance(value, (int, str, float)) or value is None:
+        return value
+    raise TypeError(f"cannot serialise {type(value).__name__}")  # pragma: no cover
+
+
+def design_to_data(design: Any) -> dict[str, Any]:
+    """Plain data holding every field of a design (exact values as strings)."""
+    fields = {}
+    for f in dataclasses.fields(design):
+        if not f.compare:
+            continue  # derived data (e.g. the analysis report) is recomputed, not stored
+        fields[f.name] = _encode(getattr(design, f.name))
+    return {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict()}
+
+
+def _decode(value: Any, annotation: str, where: str) -> Any:
+    from uio_ring.ring.matrix import PolyMatrix
+    from uio_ring.systems.delay_system import DelaySystem
+
+    try:
+        if "PolyMatrix" in annotation:
+            rows, cols = value["shape"]
+            return PolyMatrix(value["rows"], shape=(rows, cols)) if rows and cols else PolyMatrix.zeros(rows, cols)
+        if "DelaySystem" in annotation:
+            data = dict(value["system"])
+            for k, (r, c) in value["shapes"].items():
+                if r == 0 or c == 0:
+                    data[k] = PolyMatrix.zeros(r, c)
+            return DelaySystem.from_dict(data)
+        if "Fraction" in annotation and "tuple" in annotation:
+            return tuple(Fraction(v) for v in value)
+        if annotation in ("int",):
+            return int(value)
+        if annotation in ("str",):
+            return str(value)
+        return value
+    except (KeyError, TypeError, ValueError) as exc:
+        raise SpecError(f"malformed value ({exc})", path=where) from None
+
+
+def design_from_data(data: Any) -> Any:
+    """Rebuild a design from :func:`design_to_data` output."""
+    if not isinstance(data, dict) or "uio_ring_design" not in data:
+        raise SpecError("not a uio_ring design file (no 'uio_ring_design' key)")
+    classes = _design_classes()
+    cls = classes.get(data.get("method", ""))
+    if cls is None:
+        raise SpecError(f"unknown design method {data.get('method')!r}; known: {', '.join(classes)}", path="method")
+    fields = data.get("fields") or {}
+    kwargs = {}
+    for f in dataclasses.fields(cls):
+        if not f.compare:
+            continue
+        if f.name not in fields:
+            raise SpecError(f"the design file has no field {f.name!r}", path="fields")
+        kwargs[f.name] = _decode(fields[f.name], str(f.type), f"fields.{f.name}")
+    return cls(**kwargs)
+
+
+def save_design(design: Any, stem: str | Path, *, formats: Sequence[str] = ("json", "yaml")) -> list[Path]:
+    """Write ``stem.json`` / ``stem.yaml`` (and ``stem.tex`` for ``"latex"``); returns the paths."""
+    from uio_ring.spec.yaml_io import dump_yaml
+
+    stem = Path(stem)
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    data = design_to_data(design)
+    out = []
+    for fmt in formats:
+        if fmt == "json":
+            p = stem.with_suffix(".json")
+            p.write_text(json.dumps(data, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+        elif fmt == "yaml":
+            p = stem.with_suffix(".yaml")
+            p.write_text(dump_yaml(data), encoding="utf-8")
+        elif fmt == "latex":
+            p = stem.with_suffix(".tex")
+            p.write_text(design.to_latex() + "\n", encoding="utf-8")
+        else:
+            continue
+        out.append(p)
+    return out
+
+
+def load_design(path: str | Path) -> Any:
+    """Load a design written by :func:`save_design` (``.json`` or ``.yaml``)."""
+    from uio_ring.spec.yaml_io import load_yaml_text
+
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SpecError(f"cannot read {p}: {exc.strerror}") from None
+    if p.suffix == ".json":
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise SpecError(f"{p}: not valid JSON ({exc})") from None
+    else:
+        data = load_yaml_text(text)
+    return design_from_data(data)
