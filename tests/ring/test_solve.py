@@ -68,7 +68,7 @@ def test_unsolvable_table(V, W):
 def test_dimension_mismatch_names_both_shapes():
     V = PolyMatrix("[[1, 0, 0], [0, 1, 0]]")
     W = PolyMatrix("[[1, 0]]")
-    with pytest.raises(DimensionError, match=r"(?s)(3.*2|2.*3)"):
+    with pytest.raises(DimensionError, match=r"2\s*[×x]\s*3.*1\s*[×x]\s*2"):
         solve_left(V, W)
 
 
