@@ -168,6 +168,12 @@ def spec_from_dict(data: Any) -> Spec:
         )
     sch = schema()
     _check_keys(data, sch, "", sch)
+    system = data.get("system")
+    if isinstance(system, dict):
+        for k in _MATRIX_KEYS:
+            if isinstance(system.get(k), dict):
+                for key in system[k]:
+                    _delay_power(key, f"system.{k}")
     _validate_schema(data, sch)
     system = _read_system(data["system"])
     design = _read_design(data.get("design") or {})
@@ -180,6 +186,18 @@ def spec_from_dict(data: Any) -> Spec:
 # ---------------------------------------------------------------------------------------
 # structure: keys and schema
 # ---------------------------------------------------------------------------------------
+def _fmt(x: Fraction) -> str:
+    """A rational as decimal text when it terminates (1/2 -> 0.5), else p/q."""
+    q = x.denominator
+    for prime in (2, 5):
+        while q % prime == 0:
+            q //= prime
+    if q != 1:
+        return f"{x.numerator}/{x.denominator}"
+    text = f"{float(x):.15g}"
+    return text if Fraction(text) == x else f"{x.numerator}/{x.denominator}"
+
+
 def _kind(x: Any) -> str:
     if isinstance(x, dict):
         return "mapping"
@@ -252,6 +270,13 @@ def _validate_schema(data: dict[str, Any], sch: dict[str, Any]) -> None:
         )
     elif err.validator == "required":
         message = f"{err.message} (required)"
+    elif err.validator == "enum":
+        allowed = [str(v) for v in err.validator_value]
+        close = difflib.get_close_matches(str(err.instance), allowed, n=1, cutoff=0.6)
+        hint = f"; did you mean '{close[0]}'?" if close else ""
+        message = f"unknown value {err.instance!r}{hint} (allowed: {', '.join(allowed)})"
+    elif err.validator == "type":
+        message = f"{_kind(err.instance)} {err.instance!r} is not of type {err.validator_value}"
     raise SpecError(message, path=path or None)
 
 
@@ -344,7 +369,7 @@ def _matrix(value: Any, path: str) -> Any:
 
 
 def _delay_power(key: Any, path: str) -> int:
-    text = str(key).strip()
+    text = _fmt(key) if isinstance(key, Fraction) else str(key).strip()
     try:
         value = Fraction(text)
     except (ValueError, ZeroDivisionError):
@@ -500,10 +525,10 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
     ratio = h / dt
     if ratio.denominator != 1:
         n_lo = max(1, math.floor(ratio))
-        examples = ", ".join(f"{h / k} (N = {k})" for k in sorted({n_lo, n_lo + 1, 10 * n_lo}))
+        examples = ", ".join(f"{_fmt(h / k)} (N = {k})" for k in sorted({n_lo, n_lo + 1, 10 * n_lo}))
         raise SpecError(
-            f"h/dt = {ratio} is not a whole number; dt must be h/N with N a positive integer, "
-            f"e.g. dt = {examples}",
+            f"h/dt = {_fmt(ratio)} is not a whole number; the grid needs dt = h/N with N a "
+            f"positive integer (h = {_fmt(h)}), e.g. dt = {examples}",
             path="simulate.dt",
         )
     if t_final / dt > MAX_STEPS:

@@ -1,0 +1,88 @@
+"""The uio-ring command: exit codes, messages without tracebacks, written files."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from uio_ring.cli import main
+from uio_ring.spec import load_design
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_design_paper_example(tmp_path, capsys):
+    code = main(["design", str(EXAMPLES / "zheng2015.yaml"), "--out", str(tmp_path), "--latex", str(tmp_path / "d.tex")])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "certificate ok" in out and "n_z = 6" in out
+    assert "Assumption 1" in out and "Assumption 2" in out
+    design = load_design(tmp_path / "zheng2015.json")
+    assert design == load_design(tmp_path / "zheng2015.yaml")
+    assert design.certificate().ok and design.n_z <= 6 and design.lag <= 4
+    assert (tmp_path / "d.tex").read_text().strip()
+
+
+def test_failing_assumption_exits_1_and_says_why(tmp_path, capsys):
+    code = main(["design", str(EXAMPLES / "double_integrator_fails.yaml"), "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 1
+    assert "Assumption 2" in err and "Traceback" not in err
+
+
+def test_check_reports_both_ways(capsys):
+    assert main(["check", str(EXAMPLES / "zheng2015.yaml")]) == 0
+    assert "applicable" in capsys.readouterr().out
+    assert main(["check", str(EXAMPLES / "double_integrator_fails.yaml")]) == 1
+    assert "NOT applicable" in capsys.readouterr().out
+
+
+def test_bad_spec_exits_2_with_the_path(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("system:\n  A: [[0, 1], [0, 0]]\n  B: [[0], [1]]\n  C: [['1+*d', 0]]\n  h: 1\n")
+    assert main(["design", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "system.C[0][0]: cannot parse '1+*d' at column 3" in err and "Traceback" not in err
+
+
+def test_debug_shows_the_traceback(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("system: 1\n")
+    with pytest.raises(Exception, match="system"):
+        main(["--debug", "design", str(bad)])
+
+
+def test_calculator_commands(capsys):
+    assert main(["smith", "[[d, 0], [0, d + 1]]", "--transforms"]) == 0
+    out = capsys.readouterr().out
+    assert "invariant factors: 1, d**2 + d" in out and "check U·M·V == S: True" in out
+    assert main(["hermite", "[[d**2, d], [d, 1]]", "--latex"]) == 0
+    assert r"\delta" in capsys.readouterr().out
+    assert main(["hermite", "[[1+*d]]"]) == 2
+
+
+def test_schema_command_prints_the_schema(capsys):
+    assert main(["schema"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["required"] == ["system"]
+
+
+def test_simulate_writes_csv_png_and_summary(tmp_path, capsys):
+    code = main(["simulate", str(EXAMPLES / "zheng2015.yaml"), "--out", str(tmp_path), "--no-progress"])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert (tmp_path / "zheng2015.csv").exists() and (tmp_path / "zheng2015.png").exists()
+    line = [s for s in out.splitlines() if "max error after" in s][0]
+    max_err = float(line.rsplit(":", 1)[1])
+    assert max_err < 1e-4  # exact-design observer: error at integration level after 2 s
+
+
+def test_console_script_runs():
+    proc = subprocess.run(
+        [sys.executable, "-m", "uio_ring.cli", "smith", "[[d, 1], [0, d]]"], capture_output=True, text=True, check=False
+    )
+    assert proc.returncode == 0 and "d**2" in proc.stdout
