@@ -12,7 +12,11 @@ whole record with array operations and gives the same numbers.
 
 Discretisation: exponential integrator ``ξ_k = e^{L0 dt} ξ_{k−1} + Σ_m W_m g_{k−3+m}``
 with ``g = (JΛ)(δ) y`` on the grid and a causal four-point stencil (nodes
-``k−3 … k``), so only samples up to ``t_k`` are used; local error O(dt⁵).
+``k−3 … k``), so only samples up to ``t_k`` are used; local error O(dt⁵).  In the
+first ``guard_blocks`` blocks, where y and its first derivatives jump at the
+multiples of h, the stencil stays inside the block (linear, then quadratic for
+the first two steps of a block): local O(dt³) at finitely many steps, so the
+start-up transient is O(dt³) and the steady state O(dt⁴).
 Before the first sample, signals are held at their first value unless a
 history is given (``y_history``); ẑ is held at ẑ(0).
 """
@@ -26,6 +30,7 @@ import numpy as np
 from uio_ring.sim._convert import coefficient_arrays, eval_at_one, poly_matmul
 from uio_ring.sim._expint import LinearScan, phi_functions, stencil_weights
 from uio_ring.sim._grid import as_float, steps_per_delay
+from uio_ring.sim._threads import blas_single_thread
 from uio_ring.sim.errors import DimensionError, NotSupportedError, SimulationError
 from uio_ring.sim.plant import delayed_sum, plant_run, resolve_h
 from uio_ring.sim.result import SimulationResult
@@ -33,6 +38,24 @@ from uio_ring.sim.result import SimulationResult
 __all__ = ["DelayObserverSimulator", "simulate_observer"]
 
 _NODES = (-2, -1, 0, 1)  # stencil of the step k−1 → k, relative to t_{k−1}
+_NODES_FIRST = (0, 1)  # first step of a block, stencil kept inside the block
+_NODES_SECOND = (-1, 0, 1)  # second step of a block
+
+
+def guard_blocks_for(system: Any) -> int:
+    """Blocks ``[0, M h]`` in which y, y' or y'' may jump at the multiples of h.
+
+    x' jumps at 0 (history vs. dynamics), x^{(q)} at ``i h`` for ``i ≤ (q − 1) deg A``
+    (plus ``deg B`` when w starts at 0), and y = C(δ)x + D(δ)w shifts them by up to
+    ``max(deg C, deg D)``.  Beyond, y is C³ across block ends, where a centred cubic
+    stencil keeps the local error O(dt⁵).
+    """
+    if system is None:
+        return 8
+    deg = {k: coefficient_arrays(getattr(system, k), name=k).shape[0] - 1
+           for k in "ABCD" if getattr(system, k, None) is not None}
+    return max(2 * max(deg.get("A", 0), 0) + max(deg.get("B", 0), 0)
+               + max(deg.get("C", 0), deg.get("D", 0), 0) + 2, 1)
 
 
 def _design_h(design: Any) -> Any:
@@ -65,6 +88,11 @@ class DelayObserverSimulator:
     y_history : array, optional
         Output samples before 0, ``(n_y, L)`` with ``L = history_length``, oldest
         first (default: y held at y(0)).
+    guard_blocks : int, optional
+        Number of blocks ``[k h, (k+1) h]`` from t = 0 whose stencils stay inside the
+        block (y may have derivative jumps at their ends); default from the degrees of
+        ``design.system`` (:func:`guard_blocks_for`); 0 when y is smooth across them
+        (e.g. a record that starts long after the plant did).
 
     Examples
     --------
@@ -72,7 +100,17 @@ class DelayObserverSimulator:
     per sample, or ``x_hat = obs.run(y)`` for a record ``y`` of shape ``(n_y, T)``.
     """
 
-    def __init__(self, design: Any, h: Any, dt: Any, *, x_hat0: Any = None, xi0: Any = None, y_history: Any = None):
+    def __init__(
+        self,
+        design: Any,
+        h: Any,
+        dt: Any,
+        *,
+        x_hat0: Any = None,
+        xi0: Any = None,
+        y_history: Any = None,
+        guard_blocks: int | None = None,
+    ):
         system = getattr(design, "system", None)
         self.h = resolve_h(h, _design_h(design), what="the design")
         self.dt = as_float(dt, "dt")
@@ -111,6 +149,12 @@ class DelayObserverSimulator:
         phis = phi_functions(self.L0 * self.dt, 4)
         self.Phi = phis[0]
         self.W = stencil_weights(self.L0 * self.dt, self.dt, _NODES, phis)  # (4, n_z, n_z)
+        self.W_first = stencil_weights(self.L0 * self.dt, self.dt, _NODES_FIRST, phis)
+        self.W_second = stencil_weights(self.L0 * self.dt, self.dt, _NODES_SECOND, phis)
+        #: blocks from t = 0 in which the stencils do not cross a multiple of h
+        self.guard_blocks = guard_blocks_for(system) if guard_blocks is None else int(guard_blocks)
+        if self.guard_blocks < 0:
+            raise SimulationError(f"guard_blocks={guard_blocks} must be ≥ 0")
         self._x_hat0 = None if x_hat0 is None else self._vector(x_hat0, self.n_x, "x_hat0")
         self._xi0 = None if xi0 is None else self._vector(xi0, n_z, "xi0")
         if x_hat0 is not None and xi0 is not None:
@@ -187,8 +231,17 @@ class DelayObserverSimulator:
         self._ybuf[self._yh] = y
         g_new = self._gsum_ring()
         g = self._g
-        W = self.W
-        self._xi = self.Phi @ self._xi + W[0] @ g[0] + W[1] @ g[1] + W[2] @ g[2] + W[3] @ g_new
+        r = (self.k) % N  # position in its block of the step's left end t_{k}, k = old count
+        if self.k < self.guard_blocks * N and r == 0:
+            W = self.W_first
+            forcing = W[0] @ g[2] + W[1] @ g_new
+        elif self.k < self.guard_blocks * N and r == 1:
+            W = self.W_second
+            forcing = W[0] @ g[1] + W[1] @ g[2] + W[2] @ g_new
+        else:
+            W = self.W
+            forcing = W[0] @ g[0] + W[1] @ g[1] + W[2] @ g[2] + W[3] @ g_new
+        self._xi = self.Phi @ self._xi + forcing
         self._g = [g[1], g[2], g_new]
         z = self._xi + self._hsum_ring()
         self._zh = (self._zh + 1) % self._zc
@@ -223,6 +276,10 @@ class DelayObserverSimulator:
         """
         if u is not None:
             raise DimensionError("u was given, but the observer has no known input (n_u = 0)")
+        with blas_single_thread():
+            return self._run(y, return_z)
+
+    def _run(self, y: Any, return_z: bool) -> np.ndarray:
         Y = np.asarray(y, dtype=float)
         if Y.ndim == 1 and self.n_y == 1:
             Y = Y[None, :]
@@ -238,6 +295,14 @@ class DelayObserverSimulator:
             GT = G.T  # BLAS-friendly orientation (see delayed_sum)
             Gq = (self.W[0] @ GT[:, 0 : T - 1] + self.W[1] @ GT[:, 1:T] + self.W[2] @ GT[:, 2 : T + 1]
                   + self.W[3] @ GT[:, 3 : T + 2]).T
+            # steps j → j+1 (row j of Gq) at the start of a guarded block: stay inside it
+            end = min(self.guard_blocks * N, T - 1)
+            first = np.arange(0, end, N)
+            second = first[first + 1 < end] + 1
+            Wf, Ws = self.W_first, self.W_second
+            Gq[first] = (Wf[0] @ GT[:, first + 2] + Wf[1] @ GT[:, first + 3]).T
+            if N > 1:
+                Gq[second] = (Ws[0] @ GT[:, second + 1] + Ws[1] @ GT[:, second + 2] + Ws[2] @ GT[:, second + 3]).T
             xi = np.empty((T, self.n_z))
             xi[0] = xi0
             xi[1:] = LinearScan(self.Phi, chunk=16).run(xi0, Gq)
@@ -255,8 +320,10 @@ class DelayObserverSimulator:
 
         For output noise with ``|ν_j| ≤ a_j`` (any sequence, ξ(0) independent of y), the
         estimate moves by at most ``Σ_j gain[i, j] a_j`` in component i — the exact
-        ∞-norm gain of the discretised observer.  ``horizon`` (seconds) defaults to the
-        delays plus 40 time constants of the slowest observer pole.
+        ∞-norm gain of the discretised observer once its start-up blocks (the guarded
+        stencils, see ``guard_blocks``) have been forgotten, i.e. up to a term decaying
+        like the slowest observer pole.  ``horizon`` (seconds) defaults to the delays
+        plus 40 time constants of the slowest pole.
         """
         rate = -np.max(np.linalg.eigvals(self.L0).real)
         if rate <= 0:
@@ -268,6 +335,7 @@ class DelayObserverSimulator:
         sub.__dict__.update(self.__dict__)
         sub._x_hat0, sub._xi0 = None, None
         sub._y_history = np.zeros((self.n_y, self.history_length))
+        sub.guard_blocks = 0
         gain = np.empty((self.n_x, self.n_y))
         for j in range(self.n_y):
             y = np.zeros((self.n_y, T))
@@ -364,7 +432,7 @@ def _warm_plant(obs: DelayObserverSimulator, sys: Any, h: float, t_final: Any, w
         raise SimulationError("u: exact_start=True is for u-free systems")
     C = coefficient_arrays(sys.C, name="sys.C")
     blocks = (obs.Tc.shape[0] - 1) + (obs.JL.shape[0] - 1) + (obs.HL.shape[0] - 1) + max(C.shape[0] - 1, 0) + 2
-    blocks = max(blocks, -(-obs.history_length // obs.N) + 1)
+    blocks = max(blocks, -(-obs.history_length // obs.N) + 1, obs.guard_blocks + 1)
     s0 = blocks * obs.N
     t_warm = s0 * obs.dt
     w_s = None if w is None else (lambda t: w(np.asarray(t) - t_warm))
@@ -375,6 +443,7 @@ def _warm_plant(obs: DelayObserverSimulator, sys: Any, h: float, t_final: Any, w
     Xrows, Yrows = full.x.T, full.y.T
     z0 = delayed_sum(obs.Tc, Xrows, 0, 0, obs.N, s0)[0]
     obs._xi0 = z0 - delayed_sum(obs.HL, Yrows, 0, 0, obs.N, s0)[0]
+    obs.guard_blocks = 0  # the break points of the plant lie before 0
     sl = slice(s0, None)
     return SimulationResult(
         t=full.t[sl] - t_warm, x=full.x[:, sl], y=full.y[:, sl], w=full.w[:, sl], u=full.u[:, sl],

@@ -11,6 +11,7 @@ from uio_ring.sim._blocks import block_integrator
 from uio_ring.sim._convert import coefficient_arrays
 from uio_ring.sim._grid import as_float, step_count, steps_per_delay
 from uio_ring.sim._progress import Progress, want_progress
+from uio_ring.sim._threads import blas_single_thread
 from uio_ring.sim.errors import SimulationError
 from uio_ring.sim.history import sample_history
 from uio_ring.sim.result import SimulationResult
@@ -113,6 +114,12 @@ def plant_run(
     progress: bool | None = None,
 ) -> SimulationResult:
     """:func:`simulate` without its docstring (shared with :func:`simulate_observer`)."""
+    with blas_single_thread():
+        return _plant_run(sys, h=h, t_final=t_final, dt=dt, w=w, u=u, phi=phi, noise=noise, progress=progress)
+
+
+def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, phi: Any, noise: Any,
+               progress: bool | None) -> SimulationResult:
     S = SystemArrays.from_system(sys)
     hv = resolve_h(h, getattr(sys, "h", None), what="sys")
     dtv = as_float(dt, "dt")
