@@ -13,8 +13,18 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from uio_ring.ring import PolyMatrix, hermite, invariant_factors, is_hermite, is_smith, is_unimodular, smith
-from uio_ring.ring._generic import generic_hermite, generic_last_factor
+from uio_ring.ring import (
+    NoPolynomialSolutionError,
+    PolyMatrix,
+    hermite,
+    invariant_factors,
+    is_hermite,
+    is_smith,
+    is_unimodular,
+    smith,
+    solve_left,
+)
+from uio_ring.ring._generic import generic_hermite, generic_last_factor, generic_solve_left
 from uio_ring.ring.hermite import hermite_by_elimination
 from uio_ring.ring.smith import invariant_factors_by_elimination, smith_by_elimination
 
@@ -87,3 +97,28 @@ def test_singular_square_matrix_takes_the_elimination_path():
     assert generic_hermite(M._r, 7) is None
     h = hermite(M)
     assert h.rank == 6 and h.U @ M == h.H and is_unimodular(h.U)
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(6, 9), m=st.integers(0, 3))
+def test_generic_solve_recovers_the_unique_solution(seed, n, m):
+    rng = random.Random(seed)
+    V = random_matrix(rng, n, 1)
+    X0 = PolyMatrix([["+".join(f"({rng.randint(-2, 2)})*d**{e}" for e in range(2))] * n for _ in range(m)], shape=(m, n))
+    W = X0 @ V
+    got = generic_solve_left(V._r, W._r, n, m)
+    if V.det() == 0:
+        assert got is None
+    else:
+        assert PolyMatrix._new(got, m, n, "d") == X0
+
+
+def test_generic_solve_when_V_is_singular_at_the_first_points():
+    """det V vanishes at δ = 0, 1, −1: the sampling must skip those points."""
+    rng = random.Random(11)
+    n = 6
+    V = random_unimodular(rng, n) @ PolyMatrix.diag(*([1] * (n - 1) + ["d*(d - 1)*(d + 1)"]))
+    X0 = random_matrix(rng, n, 1)[:2, :]
+    assert solve_left(V, X0 @ V) == X0
+    with pytest.raises(NoPolynomialSolutionError):
+        solve_left(V, PolyMatrix.identity(n))

@@ -28,7 +28,13 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 
-__all__ = ["generic_hermite", "generic_last_factor", "GENERIC_MIN_SIZE", "GENERIC_MIN_SIZE_FACTORS"]
+__all__ = [
+    "generic_hermite",
+    "generic_last_factor",
+    "generic_solve_left",
+    "GENERIC_MIN_SIZE",
+    "GENERIC_MIN_SIZE_FACTORS",
+]
 
 #: Hermite/Smith with transforms: below this size elimination is as fast
 #: (random degree-1/2 matrices: equal at n = 5, generic 1.6× faster at n = 8).
@@ -138,3 +144,77 @@ def generic_hermite(a: dn.Rows, n: int) -> tuple[dn.Rows, dn.Rows, list[flint.fm
         polys = [ev.interpolate(xs[:k], [row[e] for row in values]) for e in range(n * n)]
     U = [polys[i * n : (i + 1) * n] for i in range(n)]
     return H, U, h
+
+
+def generic_solve_left(v: dn.Rows, w: dn.Rows, n: int, m: int) -> dn.Rows | None:
+    """The unique X with ``X V = W`` for a nonsingular n×n V, or None if V is singular.
+
+    ``Y = W·adj(V)`` is interpolated from ``det V(x)·W(x)·V(x)⁻¹`` (degree at most
+    ``deg W + b_{n−1}``); then ``X = Y / det V`` entry by entry.  Raises
+    ``ArithmeticError`` naming the entry when a division leaves a remainder
+    (then no polynomial X exists).  Precondition: W is m×n.
+    """
+    dbound = ev.minor_degree_bound(v, n, n, n)
+    wdeg = max(dn.mat_degree(w), 0)
+    ybound = wdeg + ev.minor_degree_bound(v, n, n, n - 1)
+    count = max(dbound, ybound) + 1
+    xs = ev.first_points(count)
+    vc = ev.coefficient_mats(v, n, n)
+    wc = ev.coefficient_mats(w, m, n) if m else []
+    dets: list[flint.fmpq] = []
+    ys: list[list[flint.fmpq] | None] = []
+    for x in xs:
+        vx = ev.evaluate(vc, x)
+        dx = vx.det()
+        dets.append(dx)
+        if dx == 0:
+            ys.append(None)
+            continue
+        if m:
+            wx = ev.evaluate(wc, x)
+            # X(x) V(x) = W(x)  <=>  V(x)^T X(x)^T = W(x)^T
+            sol = vx.transpose().solve(wx.transpose()).transpose()
+            ys.append([dx * e for e in sol.entries()])
+        else:
+            ys.append([])
+    det = ev.interpolate_columns(flint.fmpq_mat(count, 1, dets))[0] if count else bk.ZERO
+    if det.is_zero():
+        return None
+    if any(y is None for y in ys):
+        return _solve_by_points_avoiding_roots(vc, wc, n, m, det, ybound)
+    entries = ev.interpolate_columns(flint.fmpq_mat(count, m * n, [e for y in ys if y for e in y])) if m else []
+    return _divide_exactly(entries, det, m, n)
+
+
+def _solve_by_points_avoiding_roots(
+    vc: list[flint.fmpq_mat], wc: list[flint.fmpq_mat], n: int, m: int, det: flint.fmpq_poly, ybound: int
+) -> dn.Rows:
+    """Like :func:`generic_solve_left`, sampling only points where V(x) is nonsingular."""
+    xs: list[int] = []
+    ys: list[list[flint.fmpq]] = []
+    for x in ev.points():
+        if len(xs) == ybound + 1:
+            break
+        vx = ev.evaluate(vc, x)
+        dx = vx.det()
+        if dx == 0:
+            continue
+        wx = ev.evaluate(wc, x)
+        sol = vx.transpose().solve(wx.transpose()).transpose()
+        xs.append(x)
+        ys.append([dx * e for e in sol.entries()])
+    entries = [ev.interpolate(xs, [y[e] for y in ys]) for e in range(m * n)]
+    return _divide_exactly(entries, det, m, n)
+
+
+def _divide_exactly(entries: list[flint.fmpq_poly], det: flint.fmpq_poly, m: int, n: int) -> dn.Rows:
+    out: dn.Rows = []
+    for i in range(m):
+        row = []
+        for j in range(n):
+            q, r = divmod(entries[i * n + j], det)
+            if not r.is_zero():
+                raise ArithmeticError(f"row {i}, column {j}")
+            row.append(q)
+        out.append(row)
+    return out

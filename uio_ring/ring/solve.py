@@ -3,7 +3,10 @@
 With ``U V = H`` (row echelon, r nonzero rows, pivots p_k) every solution is
 ``X = Y U`` with ``Y_[:, :r] H_[:r] = W`` and ``Y_[:, r:]`` free.  The first part
 is solved by back substitution along the pivots, which needs exact polynomial
-divisions; a remainder anywhere means no polynomial solution.  The returned X
+divisions; a remainder anywhere means no polynomial solution.  A square
+nonsingular V of size ≥ ``GENERIC_MIN_SIZE`` takes the evaluation path instead:
+``W·adj V`` is interpolated and divided exactly by ``det V``
+(:func:`uio_ring.ring._generic.generic_solve_left`).  The returned X
 is reduced modulo a Popov basis of the left kernel of V (low δ-degree).
 
 >>> from uio_ring.ring.matrix import PolyMatrix
@@ -20,6 +23,7 @@ from typing import TYPE_CHECKING
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
 from uio_ring.ring.hermite import reduce_transform, row_echelon
 
@@ -62,6 +66,16 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         raise DimensionError(
             f"solve_left: V is {k}×{n} and W is {m}×{n2}; X·V = W needs the same number of columns"
         )
+    if k == n >= GENERIC_MIN_SIZE:
+        try:
+            got = generic_solve_left(V._r, W._r, n, m)
+        except ArithmeticError as exc:
+            raise NoPolynomialSolutionError(
+                f"solve_left: X·V = W has the unique rational solution W·V⁻¹, and its entry ({exc}) "
+                "is not a polynomial"
+            ) from None
+        if got is not None:
+            return PolyMatrix._new(got, m, k, V.var)
     a = dn.copy(V._r)
     u = dn.identity(k)
     pivots = row_echelon(a, u, k, n)
