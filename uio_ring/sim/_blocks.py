@@ -66,8 +66,8 @@ def toeplitz_powers(Phi: np.ndarray, N: int) -> tuple[np.ndarray, np.ndarray]:
     pows[0] = np.eye(n)
     for r in range(N):
         pows[r + 1] = Phi @ pows[r]
-    r, s = np.meshgrid(np.arange(N), np.arange(N), indexing="ij")
-    D = r - s
+    rr, ss = np.meshgrid(np.arange(N), np.arange(N), indexing="ij")
+    D = rr - ss
     T = np.where((D >= 0)[:, :, None, None], pows[np.clip(D, 0, N)], 0.0)  # (N, N, n, n)
     T = T.transpose(0, 2, 1, 3).reshape(N * n, N * n)
     return pows[1:], T

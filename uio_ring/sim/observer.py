@@ -199,7 +199,7 @@ class DelayObserverSimulator:
     def reset(self) -> None:
         """Back to t = 0 (nothing received yet)."""
         self.k = -1
-        self._ybuf: np.ndarray | None = None
+        self._ybuf = np.empty((0, self.n_y))
 
     def step(self, y_k: Any, u_k: Any = None) -> np.ndarray:
         """Take the output sample at ``t_k = k·dt`` and return the estimate ``x̂(t_k)``."""
@@ -249,23 +249,31 @@ class DelayObserverSimulator:
         self.k += 1
         return self._xhat()
 
+    @staticmethod
+    def _apply(M: np.ndarray, buf: np.ndarray, rows: list[int]) -> np.ndarray:
+        """``Σ_i M_i buf[rows[i]]``."""
+        out = M[0] @ buf[rows[0]]
+        for i in range(1, M.shape[0]):
+            out = out + M[i] @ buf[rows[i]]
+        return out
+
     def _gsum(self, Y: np.ndarray, pos: int) -> np.ndarray:
-        return sum(self.JL[i] @ Y[pos - i * self.N] for i in range(self.JL.shape[0]))
+        return self._apply(self.JL, Y, [pos - i * self.N for i in range(self.JL.shape[0])])
 
     def _hsum(self, Y: np.ndarray, pos: int) -> np.ndarray:
-        return sum(self.HL[i] @ Y[pos - i * self.N] for i in range(self.HL.shape[0]))
+        return self._apply(self.HL, Y, [pos - i * self.N for i in range(self.HL.shape[0])])
 
     def _gsum_ring(self) -> np.ndarray:
         c, h, N = self._yc, self._yh, self.N
-        return sum(self.JL[i] @ self._ybuf[(h - i * N) % c] for i in range(self.JL.shape[0]))
+        return self._apply(self.JL, self._ybuf, [(h - i * N) % c for i in range(self.JL.shape[0])])
 
     def _hsum_ring(self) -> np.ndarray:
         c, h, N = self._yc, self._yh, self.N
-        return sum(self.HL[i] @ self._ybuf[(h - i * N) % c] for i in range(self.HL.shape[0]))
+        return self._apply(self.HL, self._ybuf, [(h - i * N) % c for i in range(self.HL.shape[0])])
 
     def _xhat(self) -> np.ndarray:
         c, h, N = self._zc, self._zh, self.N
-        return sum(self.TL[i] @ self._zbuf[(h - i * N) % c] for i in range(self.TL.shape[0]))
+        return self._apply(self.TL, self._zbuf, [(h - i * N) % c for i in range(self.TL.shape[0])])
 
     # ------------------------------------------------------------------ whole record
     def run(self, y: Any, u: Any = None, *, return_z: bool = False) -> np.ndarray:
