@@ -133,6 +133,13 @@ class DelayUIODesign(ObserverDesign):
 
         return delay_uio_certificate(self)
 
+    def simulator(self, *, h: Any, dt: Any, x_hat0: Any = None) -> Any:
+        """The numeric observer on the grid ``dt = h/N`` (``.step(y_k)``, ``.run(y)``): see
+        :class:`uio_ring.sim.DelayObserverSimulator`."""
+        from uio_ring.sim import DelayObserverSimulator
+
+        return DelayObserverSimulator(self, h=h, dt=dt, x_hat0=x_hat0)
+
     # -- display and data -----------------------------------------------------------
     def __repr__(self) -> str:
         return (
