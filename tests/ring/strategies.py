@@ -17,6 +17,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import sympy as sp
+from hypothesis import settings
 from hypothesis import strategies as st
 from sympy.matrices.normalforms import invariant_factors as sympy_invariant_factors
 from sympy.polys.matrices import DomainMatrix
@@ -28,6 +29,12 @@ QQd = sp.QQ[D_SYM]
 
 MAX_DIM = 6
 MAX_DEGREE = 3
+
+
+def heavy() -> settings:
+    """Settings for tests on 6..8-sized matrices (sympy references cost ~0.1-1 s each):
+    a quarter of the active profile's examples, at least 5."""
+    return settings(max_examples=max(5, settings.default.max_examples // 4))
 
 
 # ----------------------------------------------------------------------------
@@ -344,3 +351,24 @@ def paper_001_M() -> PolyMatrix:
     s = paper_001_system()
     C, B, D = s["C"], s["B"], s["D"]
     return PolyMatrix.block([[C @ B, D], [D, PolyMatrix.zeros(D.rows, D.cols)]])
+
+
+# ----------------------------------------------------------------------------
+# adversarial inputs for evaluation/interpolation code paths
+# ----------------------------------------------------------------------------
+#: vanishes at 0, 1, −1, 2, −2, 3, −3: the first small integers any evaluation scheme tries
+VANISHING = "d*(d - 1)*(d + 1)*(d - 2)*(d + 2)*(d - 3)*(d + 3)"
+
+
+@st.composite
+def singular_at_sample_points(draw, min_n: int = 4, max_n: int = 8):
+    """(M, diag) with M = P·diag·Q, P and Q unimodular, diag = (1, …, 1, f[, f·(d − 5)], 0…)
+    where f vanishes at the first seven small integers: M(x) loses rank at every one of them."""
+    n = draw(st.integers(min_n, max_n))
+    k = draw(st.integers(1, 2))
+    z = draw(st.integers(0, 1))
+    tail = [VANISHING] if k == 1 else [VANISHING, f"({VANISHING})*(d - 5)"]
+    diag = ["1"] * (n - k - z) + tail + ["0"] * z
+    Pm = draw(unimodular_matrices(n, steps=draw(st.integers(n, 2 * n))))
+    Q = draw(unimodular_matrices(n, steps=draw(st.integers(n, 2 * n))))
+    return Pm @ PolyMatrix.diag(*diag) @ Q, diag

@@ -22,10 +22,12 @@ from .strategies import (
     assert_popov,
     assert_unimodular,
     dense_matrices,
+    heavy,
     matrices,
     paper_001_M,
     reference_rank,
     row_degrees,
+    singular_at_sample_points,
     unimodular_matrices,
 )
 
@@ -103,6 +105,32 @@ def test_transform_degree_bound_for_nonsingular_square(M):
     assert h.U.degree() <= (n - 1) * dM
     for i, (du, dh) in enumerate(zip(row_degrees(h.U), row_degrees(h.H), strict=True)):
         assert du <= dh + (n - 1) * dM - det.degree(), f"row {i}: deg U = {du}"
+
+
+@heavy()
+@given(st.data())
+def test_hermite_singular_at_sample_points(data):
+    """Sizes 4..8 (the generic evaluation path starts at 6); M(x) singular at 0, ±1, ±2, ±3.
+    H must be normalised, and equal for M and for R·M with R unimodular."""
+    M, diag = data.draw(singular_at_sample_points())
+    h = check_hermite(M)
+    assert h.rank == sum(e != "0" for e in diag)
+    R = data.draw(unimodular_matrices(M.rows))
+    assert hermite(R @ M).H == h.H
+
+
+@heavy()
+@given(st.integers(6, 8).flatmap(lambda n: dense_matrices(rows=n, cols=n, max_degree=2,
+                                                          rational=False)))
+def test_hermite_at_fast_path_sizes(M):
+    h = check_hermite(M)
+    det = M.det()
+    if det.degree() >= 0:
+        assert h.U.degree() <= (M.rows - 1) * M.degree()
+        prod = P("1")
+        for i in range(M.rows):
+            prod = prod * h.H[i, i]
+        assert prod == det.monic()
 
 
 # ----------------------------------------------------------------------------

@@ -20,12 +20,14 @@ from .strategies import (
     D_SYM,
     P,
     dense_matrices,
+    heavy,
     matrices,
     poly_coeffs,
     poly_text,
     reference_det,
     reference_rank,
     same_poly,
+    singular_at_sample_points,
     square_matrices,
     sympy_matrix,
     to_sympy_poly,
@@ -225,6 +227,19 @@ def test_det_matches_sympy(M):
 def test_rank_matches_sympy(M):
     assert M.rank() == reference_rank(M)
     assert M.T.rank() == M.rank()
+
+
+@heavy()
+@given(singular_at_sample_points())
+def test_rank_and_det_when_singular_at_sample_points(case):
+    """rank/det by evaluation must not stop at the first (unlucky) sample points."""
+    M, diag = case
+    assert M.rank() == sum(e != "0" for e in diag) == reference_rank(M)
+    assert same_poly(M.det(), reference_det(M))
+    prod = P("1")
+    for e in diag:
+        prod = prod * P(e)
+    assert M.det().monic() == prod.monic() if prod.degree() >= 0 else M.det() == 0
 
 
 # ----------------------------------------------------------------------------

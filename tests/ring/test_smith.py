@@ -19,6 +19,8 @@ from .strategies import (
     P,
     assert_smith_form,
     assert_unimodular,
+    dense_matrices,
+    heavy,
     matrices,
     paper_001_M,
     paper_001_system,
@@ -26,6 +28,7 @@ from .strategies import (
     reference_invariant_factors,
     reference_rank,
     same_poly,
+    singular_at_sample_points,
     square_matrices,
     to_sympy_poly,
     unimodular_matrices,
@@ -120,6 +123,27 @@ def test_known_smith_forms(case):
     assert list(s.invariant_factors) == expected
     assert list(invariant_factors(M)) == expected
     assert M.rank() == len(expected)
+
+
+@heavy()
+@given(singular_at_sample_points())
+def test_known_smith_forms_singular_at_sample_points(case):
+    """Sizes 4..8 reach the evaluation/interpolation fast paths; M(x) is singular at
+    0, ±1, ±2, ±3, so any path that trusts a few sample points gets it wrong."""
+    M, diag = case
+    expected = [P(e) for e in diag if e != "0"]
+    s = check_smith(M)
+    assert list(s.invariant_factors) == expected
+    assert list(invariant_factors(M)) == expected
+
+
+@heavy()
+@given(st.integers(6, 8).flatmap(lambda n: dense_matrices(rows=n, cols=n, max_degree=2,
+                                                          rational=False)))
+def test_invariant_factors_match_sympy_at_fast_path_sizes(M):
+    ours = invariant_factors(M)
+    assert [to_sympy_poly(f) for f in ours] == reference_invariant_factors(M)
+    check_smith(M)
 
 
 # ----------------------------------------------------------------------------
