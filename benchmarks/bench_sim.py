@@ -197,7 +197,7 @@ def main() -> None:
 
     # 2. accuracy ladder of ours
     ladder = []
-    for N in (10, 20, 50, 100):
+    for N in (2, 4, 5, 10, 20, 50, 100):
         tt, xx, xxi = ours(sys, design, h, h / N, T)
         el = best_time(lambda N=N: ours(sys, design, h, h / N, T), 3)
         ladder.append((N, el, rel_error(np.concatenate([xx, xxi]), ref_on(N))))

@@ -94,3 +94,13 @@ def test_import_uio_ring_stays_light():
     code = "import sys, uio_ring, uio_ring.plot; print('numpy' in sys.modules, 'matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["False", "False"]
+
+
+def test_progress_bar_on_request(paper_design, capsys):
+    """Off by default in tests; ``progress=True`` draws a bar on stderr."""
+    simulate(paper_design.system, h=0.01, t_final=0.2, dt=0.001, progress=True)
+    err = capsys.readouterr().err
+    assert "plant: [" in err and "100.0%" in err
+    from uio_ring.sim._progress import want_progress
+
+    assert want_progress(None, 10**9) is False  # PYTEST_CURRENT_TEST is set

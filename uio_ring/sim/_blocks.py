@@ -10,9 +10,12 @@ N < 3, with a correspondingly lower order).
 
 Two evaluations of the same map:
 
+* *sub* (default): the block is cut into sub-blocks of m | N steps (m ≤ 32); each is
+  one matrix applied to the delayed samples it reads, plus ``Φ^{r+1}`` times its start
+  value, plus the input part (precomputed for all blocks at once) — a few ``matvec``
+  per sub-block, O(m n²) flops per step;
 * *dense*: the whole block is one matrix ``M`` applied to the window
-  ``x[(k−K)N … kN]`` (K = deg A), plus the input part, precomputed for all blocks
-  with one matrix product — one ``matvec`` per block;
+  ``x[(k−K)N … kN]`` (K = deg A) — one ``matvec`` per block, O(N n²) per step;
 * *chunked* (large N): per block, delayed forcing, quadrature, and a
   :class:`~uio_ring.sim._expint.LinearScan`.
 """
@@ -27,6 +30,17 @@ from uio_ring.sim._progress import Progress
 __all__ = ["BlockIntegrator", "block_integrator", "block_stencils"]
 
 DENSE_MAX_ENTRIES = 6_000_000
+SUB_MAX = 32  # largest sub-block (steps)
+SUB_MIN = 8  # below this divisor of N, sub-blocks cost more Python than they save
+
+
+def sub_block_size(N: int) -> int:
+    """Largest divisor of N that is ≤ SUB_MAX (N itself when N ≤ SUB_MAX).
+
+    >>> sub_block_size(100), sub_block_size(1000), sub_block_size(10), sub_block_size(97)
+    (25, 25, 10, 1)
+    """
+    return max(d for d in range(1, min(N, SUB_MAX) + 1) if N % d == 0)
 
 
 def block_stencils(N: int) -> np.ndarray:
@@ -105,10 +119,16 @@ class BlockIntegrator:
         self.Phi = phi_functions(A0 * dt, 0)[0]
         K = self.K
         dense_size = (N * n) ** 2 + (N * n) * (K * N + 1) * n
+        m = sub_block_size(N)
         if method == "auto":
-            method = "dense" if dense_size <= DENSE_MAX_ENTRIES else "chunked"
+            if m >= SUB_MIN or N <= SUB_MAX:
+                method = "sub"
+            else:
+                method = "dense" if dense_size <= DENSE_MAX_ENTRIES else "chunked"
         self.method = method
-        if method == "dense":
+        if method == "sub":
+            self._init_sub(A, m, npts)
+        elif method == "dense":
             P, T = toeplitz_powers(self.Phi, N)
             Qd = np.zeros((N, n, K * N + 1, n))
             rows = np.arange(N)
@@ -127,6 +147,27 @@ class BlockIntegrator:
         else:
             self.scan = LinearScan(self.Phi, chunk=min(32, max(N, 1)))
 
+    def _init_sub(self, A: np.ndarray, m: int, npts: int) -> None:
+        """Sub-blocks of m steps (m | N): per sub-block one map from the delayed samples it
+        reads and its start value; O(m) work per step instead of O(N)."""
+        N, n, K = self.N, self.n, self.K
+        self.m, self.S = m, N // m
+        P, T = toeplitz_powers(self.Phi, m)
+        self.TmT = T.T.copy()
+        self.PT = P.reshape(m * n, n).T.copy()  # x_start @ PT
+        self.sub: list[tuple[int, int, np.ndarray]] = []
+        rows = np.arange(m)
+        for c in range(self.S):
+            idx_c = self.idx[c * m : (c + 1) * m]
+            lo, hi = int(idx_c.min()), int(idx_c.max())
+            width = hi - lo + 1
+            Qd = np.zeros((m, n, max(K, 1), width, n))
+            for i in range(1, K + 1):
+                for q in range(npts):
+                    Qd[rows, :, i - 1, idx_c[:, q] - lo, :] += self.W[c * m : (c + 1) * m, q] @ A[i]
+            Md = T @ Qd.reshape(m * n, max(K, 1) * width * n)
+            self.sub.append((lo, width, Md.T.copy()))
+
     def quadrature(self, F: np.ndarray) -> np.ndarray:
         """Forcing samples on blocks ``(B, N+1, n)`` → step forcings ``(B, N, n)``."""
         B = F.shape[0]
@@ -144,11 +185,30 @@ class BlockIntegrator:
         N, n, K = self.N, self.n, self.K
         # input forcing of every block at once: f_in on the block points, quadrature
         jb = np.arange(nblocks)[:, None] * N + np.arange(N + 1)[None, :]
-        if self.method == "dense":
+        step = max(1, nblocks // 100)
+        if self.method == "sub":
+            m, S = self.m, self.S
+            Gin = self.quadrature(fin[jb])  # (nblocks, N, n)
+            XW = (Gin.reshape(nblocks * S, m * n) @ self.TmT).reshape(nblocks, S, m * n)
+            PT, sub = self.PT, self.sub
+            KN = K * N
+            for k in range(nblocks):
+                a = k * N
+                for c, (lo, width, MdT) in enumerate(sub):
+                    r0 = a + KN + c * m
+                    acc = X[r0] @ PT + XW[k, c]
+                    if K == 1:
+                        acc += X[a + lo : a + lo + width].reshape(-1) @ MdT
+                    elif K > 1:
+                        parts = [X[a + (K - i) * N + lo : a + (K - i) * N + lo + width] for i in range(1, K + 1)]
+                        acc += np.concatenate(parts).reshape(-1) @ MdT
+                    X[r0 + 1 : r0 + m + 1] = acc.reshape(m, n)
+                if k % step == 0:
+                    progress.update(k)
+        elif self.method == "dense":
             XW = fin[jb].reshape(nblocks, (N + 1) * n) @ self.QinT  # particular solutions from zero
             MT = self.MT
             L = K * N + 1
-            step = max(1, nblocks // 100)
             for k in range(nblocks):
                 a = k * N  # window X[a : a + K N + 1] = x((k−K) h) … x(k h)
                 X[a + L : a + L + N] = (X[a : a + L].reshape(-1) @ MT + XW[k]).reshape(N, n)
@@ -157,7 +217,6 @@ class BlockIntegrator:
         else:
             Gin = self.quadrature(fin[jb])  # (nblocks, N, n)
             A = self.A
-            step = max(1, nblocks // 100)
             for k in range(nblocks):
                 a = k * N
                 win = X[a : a + K * N + 1]

@@ -33,23 +33,45 @@ def coefficient_arrays(M: Any, *, name: str = "matrix") -> np.ndarray:
     (0, 2, 3)
     """
     if hasattr(M, "coefficient_lists"):
-        rows, cols = M.shape
-        lists = M.coefficient_lists()
-        arr = np.zeros((len(lists), rows, cols))
-        for k, coeff in enumerate(lists):
-            for i, row in enumerate(coeff):
-                for j, c in enumerate(row):
-                    arr[k, i, j] = float(c)
-    else:
-        try:
-            arr = np.asarray(M, dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise SimulationError(f"{name}: cannot read {type(M).__name__} as a polynomial matrix") from exc
-        if arr.ndim == 2:
-            arr = arr[None]
-        if arr.ndim != 3:
-            raise SimulationError(f"{name}: expected a polynomial matrix, got an array of shape {arr.shape}")
-    # trim trailing zero coefficients: deg + 1 rows exactly
+        hit = _CACHE.get(id(M))
+        if hit is not None and hit[0] is M:
+            return hit[1]
+        arr = _from_lists(M)
+        if len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[id(M)] = (M, arr)  # holding M keeps id(M) from being reused
+        return arr
+    try:
+        arr = np.asarray(M, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise SimulationError(f"{name}: cannot read {type(M).__name__} as a polynomial matrix") from exc
+    if arr.ndim == 2:
+        arr = arr[None]
+    if arr.ndim != 3:
+        raise SimulationError(f"{name}: expected a polynomial matrix, got an array of shape {arr.shape}")
+    return _trim(arr, name)
+
+
+# PolyMatrix is immutable: its float image is computed once (read-only array)
+_CACHE: dict[int, tuple[Any, np.ndarray]] = {}
+_CACHE_SIZE = 256
+
+
+def _from_lists(M: Any) -> np.ndarray:
+    rows, cols = M.shape
+    lists = M.coefficient_lists()
+    arr = np.zeros((len(lists), rows, cols))
+    for k, coeff in enumerate(lists):
+        for i, row in enumerate(coeff):
+            for j, c in enumerate(row):
+                arr[k, i, j] = float(c)
+    out = _trim(arr, "matrix")
+    out.setflags(write=False)
+    return out
+
+
+def _trim(arr: np.ndarray, name: str) -> np.ndarray:
+    """Drop trailing zero coefficients: ``deg + 1`` rows exactly."""
     nz = [k for k in range(arr.shape[0]) if np.any(arr[k])]
     deg = nz[-1] if nz else -1
     arr = arr[: deg + 1]

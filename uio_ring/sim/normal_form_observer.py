@@ -7,19 +7,30 @@ In normal-form coordinates the observer is ::
 with one Levant robust exact differentiator per chain: row ``k`` of chain ``j``
 (``k = 1 … μ_j``) gets ``κ_{j,μ_j−k} [σ_j]^{(μ_j−k)/μ_j}`` (``[σ]^0 = sign σ``).
 
-Discretisation (step ``dt``):
+Discretisation (step ``h = dt``).  The linear part is integrated exactly
+(``M`` is nilpotent, so ``e^{Mh}``, ``φ_1``, ``φ_2`` are finite sums), with the
+measured signals ``ȳ`` (and ``ỹ_0`` of the feed-through reduction) interpolated
+linearly between samples and ``u`` held over the step::
+
+    x̂_{k+1} = e^{Mh} x̂_k + h(φ_1 − φ_2) S s_k + h φ_2 S s_{k+1} + h φ_1 B̄_u u_k + h φ_1 l̄(σ_*)
+
+(``s = [ȳ; ỹ_0]``, ``S = [Π̄, B̄_ỹ0]``).  A naive Euler step of the linear part
+leaves a residual of order ``h·Ā B̄ u`` that no differentiator rejects (the
+normal-form coordinates are badly scaled: ``|B̄|`` ≈ 8·10³ in the aircraft
+example).  The differentiator terms:
 
 ``"implicit"`` (default)
-    Backward Euler of the whole observer with the set-valued sign, solved
-    exactly: ``(I − dt M) x̂_{k+1} = x̂_k + dt (Π̄ ȳ_{k+1} + B̄ ū_k + l̄(σ_{k+1}))``.
-    ``M`` is block lower-triangular, so the chains are solved in order; in
-    chain j the equation for ``σ_j`` is the monotone scalar inclusion
-    ``σ + Σ_k w_k κ_{μ−k} [σ]^{(μ−k)/μ} ∋ a`` with ``w_k = dt^k > 0``: ``σ = 0``
-    when ``|a| ≤ w_μ κ_0`` (the sign takes the value ``a / (w_μ κ_0)``), else a
-    polynomial equation in ``|σ|^{1/μ}`` solved by Newton from the right.
-    No chattering: once the error is zero it stays zero for polynomial signals.
+    ``σ_* = σ_{k+1}``, with the set-valued sign: the chains are solved in order
+    (``M`` is block lower-triangular); in chain j the equation for ``σ_j`` is the
+    monotone scalar inclusion ``σ + Σ_k w_k κ_{μ−k} [σ]^{(μ−k)/μ} ∋ a`` with
+    ``w = (h, h²/2, h³/6, …) > 0``: ``σ = 0`` when ``|a| ≤ w_μ κ_0`` (the sign takes
+    the value ``a / (w_μ κ_0)``), else a polynomial equation in ``|σ|^{1/μ}``
+    solved by Newton from the right.  No chattering.
 ``"explicit"``
-    Explicit Euler ``x̂_{k+1} = x̂_k + dt f(x̂_k, ȳ_k)`` (needs tiny steps; chatters).
+    ``σ_* = σ_k`` (explicit Euler of the differentiator terms; chatters, needs small steps).
+``"euler"``
+    Explicit Euler of the whole observer, ``x̂_{k+1} = x̂_k + h f(x̂_k, s_k, u_k)``
+    (the textbook scheme; consistent only with an Euler-discretised plant).
 
 The plant ``x' = A x + B w + E u`` is integrated with classical RK4 (``w``
 evaluated at ``t``, ``t + dt/2``, ``t + dt``; ``u`` held over each step).
@@ -46,7 +57,7 @@ from uio_ring.sim.result import SimulationResult
 
 __all__ = ["NormalFormObserver", "simulate_normal_form_observer", "METHODS"]
 
-METHODS = ("implicit", "explicit")
+METHODS = ("implicit", "explicit", "euler")
 
 
 def _const(M: Any, rows: int, cols: int, name: str) -> np.ndarray:
@@ -99,15 +110,15 @@ class NormalFormObserver:
     dt
         Step size.
     method
-        ``"implicit"`` (default) or ``"explicit"``; see the module docstring.
+        ``"implicit"`` (default), ``"explicit"`` or ``"euler"``; see the module docstring.
     x_hat0
         Initial estimate of the model state (plant state, or ``[x; w]`` when the
         design reconstructs the input); default 0.
 
-    Notes
-    -----
-    :meth:`step` takes the measurement at ``t_{k+1}`` (implicit) or ``t_k``
-    (explicit); :func:`simulate_normal_form_observer` does the bookkeeping.
+    Examples
+    --------
+    ``obs = design.simulator(dt)``; ``obs.start(y0, u0)``; then once per sample
+    ``obs.step(y_next, u_next, u_held)`` and ``obs.estimate()``.
     """
 
     def __init__(self, design: Any, dt: Any, *, method: str = "implicit", x_hat0: Any = None):
@@ -126,12 +137,15 @@ class NormalFormObserver:
         Pi = _const(design.Pi_bar, n, len(self.mu), "Pi_bar")
         C_bar = _const(design.C_bar, len(self.mu), n, "C_bar")
         self.M = A_bar - Pi @ C_bar
-        self.Pi = Pi
-        self.B_bar = _const(design.B_bar, n, design.B_bar.cols, "B_bar")
         sysm = design.system
         self.n_y, self.n_u = sysm.n_y, sysm.n_u
+        B_bar = _const(design.B_bar, n, design.B_bar.cols, "B_bar")
+        self.B_u, B_y0 = B_bar[:, : self.n_u], B_bar[:, self.n_u :]
         self.output_map = _const(design.output_map, len(self.mu), self.n_y + self.n_u, "output_map")
-        self.input_map = _const(design.input_map, design.input_map.rows, self.n_y + self.n_u, "input_map")
+        input_map = _const(design.input_map, design.input_map.rows, self.n_y + self.n_u, "input_map")
+        #: measured signals s = [ȳ; ỹ_0] = S_map [y; u] and their injection S = [Π̄, B̄_ỹ0]
+        self.S_map = np.vstack([self.output_map, input_map[self.n_u :]])
+        self.S = np.hstack([Pi, B_y0])
         self.state_map = _const(design.state_map, sysm.n_x, n, "state_map")
         self.w_map = None if design.w_map is None else _const(design.w_map, sysm.n_w, n, "w_map")
         T_inv = _const(design.T_inverse, n, n, "T_inverse")
@@ -142,22 +156,35 @@ class NormalFormObserver:
             if x0.shape != (n,):
                 raise DimensionError(f"x_hat0 has shape {np.shape(x_hat0)}; expected ({n},) (the model state)")
             self.xbar = T_inv @ x0
-        N = np.linalg.inv(np.eye(n) - self.dt * self.M)
-        self.N = N
-        self.NL = self.dt * N
-        # weights of chain j's own terms in σ_j: dt·N[b_j, block j] (= dt, dt², …)
-        self.weights = [self.NL[s, s : s + m].copy() for s, m in zip(self.starts, self.mu, strict=True)]
+        h = self.dt
+        # M is nilpotent: e^{Mh}, φ1, φ2 are finite sums (exact up to rounding)
+        Phi, phi1, phi2 = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
+        P = np.eye(n)
+        fact = 1.0
+        for i in range(n + 1):
+            Phi += P / fact
+            phi1 += P / (fact * (i + 1))
+            phi2 += P / (fact * (i + 1) * (i + 2))
+            P = P @ (self.M * h)
+            fact *= i + 1
+        self.Phi = Phi
+        self.S0 = h * (phi1 - phi2) @ self.S
+        self.S1 = h * phi2 @ self.S
+        self.Gu = h * phi1 @ self.B_u
+        self.Kl = h * phi1
+        # chain j's own weights in σ_j: Kl[b_j, block j] = (h, h²/2, h³/6, …) > 0
+        self.weights = [self.Kl[s, s : s + m].copy() for s, m in zip(self.starts, self.mu, strict=True)]
         self.exponents = [np.array([(m - k) / m for k in range(1, m + 1)]) for m in self.mu]
+        self._sel = list(self.starts)
+        self._s_prev: np.ndarray | None = None
 
     # ---------------------------------------------------------------- pieces
-    def _inputs(self, y: np.ndarray, u_y: np.ndarray, u_drive: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        yu = np.concatenate([y, u_y])
-        ybar = self.output_map @ yu
-        ubar = self.input_map @ yu if self.input_map.shape[0] else np.zeros(0)
-        if self.n_u:
-            ubar = ubar.copy()
-            ubar[: self.n_u] = u_drive
-        return ybar, ubar
+    def _signals(self, y: Any, u_y: Any) -> np.ndarray:
+        y = np.asarray(y, dtype=float).reshape(-1)
+        if y.shape != (self.n_y,):
+            raise DimensionError(f"y has shape {y.shape}; expected ({self.n_y},)")
+        u = np.zeros(self.n_u) if u_y is None else np.asarray(u_y, dtype=float).reshape(-1)
+        return self.S_map @ np.concatenate([y, u])
 
     def _l(self, sigma: np.ndarray) -> np.ndarray:
         out = np.zeros(self.n)
@@ -166,31 +193,40 @@ class NormalFormObserver:
             out[s : s + m] = self.kappa[j] * np.abs(sj) ** self.exponents[j] * np.sign(sj)
         return out
 
-    def step(self, y: Any, u_y: Any = None, u_drive: Any = None) -> np.ndarray:
-        """Advance one step and return the new normal-form state ``x̂̄``.
+    def start(self, y0: Any, u0: Any = None) -> None:
+        """Give the measurement at ``t = 0`` (and the known input that entered it)."""
+        self._s_prev = self._signals(y0, u0)
 
-        ``y`` is the output sample (``t_{k+1}`` for implicit, ``t_k`` for
-        explicit), ``u_y`` the known input that entered it, ``u_drive`` the
-        known input held over the step (both default to ``u_y``).
-        """
-        y = np.asarray(y, dtype=float).reshape(-1)
-        u_y = np.zeros(self.n_u) if u_y is None else np.asarray(u_y, dtype=float).reshape(-1)
-        u_drive = u_y if u_drive is None else np.asarray(u_drive, dtype=float).reshape(-1)
-        ybar, ubar = self._inputs(y, u_y, u_drive)
-        forcing = self.Pi @ ybar + (self.B_bar @ ubar if ubar.size else 0.0)
-        if self.method == "explicit":
-            sigma = ybar - self.xbar[list(self.starts)]
-            self.xbar = self.xbar + self.dt * (self.M @ self.xbar + forcing + self._l(sigma))
-            return self.xbar
-        base = self.N @ (self.xbar + self.dt * forcing)
-        lvec = np.zeros(self.n)
-        for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
-            a = ybar[j] - base[s] - self.NL[s] @ lvec  # earlier chains only (block triangular)
-            sig, sg = _solve_chain(a, self.weights[j], self.kappa[j], m)
-            lj = self.kappa[j] * np.abs(sig) ** self.exponents[j] * np.sign(sig)
-            lj[m - 1] = self.kappa[j][m - 1] * sg
-            lvec[s : s + m] = lj
-        self.xbar = base + self.NL @ lvec
+    def step(self, y_next: Any, u_next: Any = None, u_held: Any = None) -> np.ndarray:
+        """From ``t_k`` to ``t_{k+1}``: ``y_next`` is measured at ``t_{k+1}`` (with the known
+        input ``u_next`` in it), ``u_held`` drives the plant on ``[t_k, t_{k+1})``
+        (default ``u_next``).  Returns the new normal-form state ``x̂̄``."""
+        if self._s_prev is None:
+            raise SimulationError("call start(y0, u0) before the first step")
+        s1 = self._signals(y_next, u_next)
+        s0 = self._s_prev
+        uh = np.zeros(self.n_u) if u_held is None and u_next is None else np.asarray(
+            u_next if u_held is None else u_held, dtype=float).reshape(-1)
+        p = len(self.mu)
+        if self.method == "euler":
+            sigma = s0[:p] - self.xbar[self._sel]
+            f = self.M @ self.xbar + self.S @ s0 + self.B_u @ uh + self._l(sigma)
+            self.xbar = self.xbar + self.dt * f
+        else:
+            lin = self.Phi @ self.xbar + self.S0 @ s0 + self.S1 @ s1 + self.Gu @ uh
+            if self.method == "explicit":
+                sigma = s0[:p] - self.xbar[self._sel]
+                self.xbar = lin + self.Kl @ self._l(sigma)
+            else:
+                lvec = np.zeros(self.n)
+                for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
+                    a = s1[j] - lin[s] - self.Kl[s] @ lvec  # earlier chains only (block triangular)
+                    sig, sg = _solve_chain(a, self.weights[j], self.kappa[j], m)
+                    lj = self.kappa[j] * np.abs(sig) ** self.exponents[j] * np.sign(sig)
+                    lj[m - 1] = self.kappa[j][m - 1] * sg
+                    lvec[s : s + m] = lj
+                self.xbar = lin + self.Kl @ lvec
+        self._s_prev = s1
         return self.xbar
 
     def estimate(self) -> np.ndarray:
@@ -307,10 +343,10 @@ def simulate_normal_form_observer(
     uk = u_at(0)
     X[:, 0] = x
     Y[:, 0] = C @ x + D @ W[:, 0] + F @ uk
+    obs.start(Y[:, 0], uk)
     XH[:, 0] = obs.estimate()
     if WH is not None:
         WH[:, 0] = obs.input_estimate()
-    u_y = uk  # the known input that entered Y[:, k]
     h2, h6 = dtv / 2, dtv / 6
     for k in range(steps):
         Uall[:, k] = uk
@@ -322,14 +358,10 @@ def simulate_normal_form_observer(
         k4 = A @ (x + dtv * k3) + B @ w1 + Eu
         x_new = x + h6 * (k1 + 2 * k2 + 2 * k3 + k4)
         y_new = C @ x_new + D @ w1 + F @ uk
-        if method == "implicit":
-            obs.step(y_new, uk, uk)
-        else:
-            obs.step(Y[:, k], u_y, uk)
+        obs.step(y_new, uk, uk)
         x = x_new
         X[:, k + 1] = x
         Y[:, k + 1] = y_new
-        u_y = uk
         XH[:, k + 1] = obs.estimate()
         if WH is not None:
             WH[:, k + 1] = obs.input_estimate()
