@@ -35,12 +35,12 @@ def coefficient_arrays(M: Any, *, name: str = "matrix") -> np.ndarray:
     if hasattr(M, "coefficient_lists"):
         hit = _CACHE.get(id(M))
         if hit is not None and hit[0] is M:
-            return hit[1]
+            return hit[1].copy()
         arr = _from_lists(M)
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
         _CACHE[id(M)] = (M, arr)  # holding M keeps id(M) from being reused
-        return arr
+        return arr.copy()
     try:
         arr = np.asarray(M, dtype=float)
     except (TypeError, ValueError) as exc:
@@ -52,7 +52,7 @@ def coefficient_arrays(M: Any, *, name: str = "matrix") -> np.ndarray:
     return _trim(arr, name)
 
 
-# PolyMatrix is immutable: its float image is computed once (read-only array)
+# PolyMatrix is immutable: its float image is computed once (callers get a copy)
 _CACHE: dict[int, tuple[Any, np.ndarray]] = {}
 _CACHE_SIZE = 256
 
