@@ -174,3 +174,23 @@ def test_h_must_agree_with_the_system():
 def test_no_progress_output_in_tests(paper_system, capsys):
     simulate(paper_system, h=0.01, t_final=0.1, dt=0.001)
     assert capsys.readouterr().err == ""
+
+
+def test_known_input_in_the_plant():
+    """x' = −x + u(t − h), u ≡ 1 from t = 0 (zero before): x = 1 − e^{−(t−h)} for t ≥ h."""
+    from uio_ring import DelaySystem
+
+    sys = DelaySystem("[[-1]]", "[[0]]", "[[1]]", "[[0]]", E="[[d]]", F="[[0]]")
+    r = simulate(sys, h=0.5, t_final=2.0, dt=0.05, u=np.ones((1, 41)))
+    t = r.t[r.t >= 0.5]
+    assert np.allclose(r.x[0, r.t >= 0.5], 1 - np.exp(-(t - 0.5)), atol=1e-7)
+    assert np.all(r.x[0, r.t <= 0.5] == 0)
+
+
+def test_constant_vector_input_has_no_jump():
+    """A constant vector is constant for all t (also before 0): x' = −x + u(t − h), u ≡ 1, x(0) = 1."""
+    from uio_ring import DelaySystem
+
+    sys = DelaySystem("[[-1]]", "[[0]]", "[[1]]", "[[0]]", E="[[d]]", F="[[0]]")
+    r = simulate(sys, h=0.5, t_final=2.0, dt=0.05, u=[1.0], phi=[1.0])
+    assert np.allclose(r.x, 1.0, atol=1e-12)

@@ -175,20 +175,27 @@ class BlockIntegrator:
         G = np.matmul(Fg.transpose(1, 0, 2), self.WT)  # (N, B, n)
         return G.transpose(1, 0, 2)
 
-    def run(self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress) -> None:
+    def run(
+        self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress, end_fix: np.ndarray | None = None
+    ) -> None:
         """Fill ``X[K N + 1 + k N …]`` block by block, in place.
 
         ``X`` has shape ``(K N + nblocks N + 1, n)`` with the history ``x(−K h) … x(0)``
         in its first ``K N + 1`` rows; ``fin`` (shape ``(nblocks N + 1, n)``) is the input
-        forcing ``B(δ) w + E(δ) u`` on the grid of ``[0, nblocks h]``.
+        forcing ``B(δ) w + E(δ) u`` on the grid of ``[0, nblocks h]``.  ``end_fix`` (shape
+        ``(nblocks, n)``) is added to the forcing at the right end of each block: the left
+        limit there, when an input jumps at a multiple of h.
         """
         N, n, K = self.N, self.n, self.K
         # input forcing of every block at once: f_in on the block points, quadrature
         jb = np.arange(nblocks)[:, None] * N + np.arange(N + 1)[None, :]
+        Fin = fin[jb]  # (nblocks, N+1, n)
+        if end_fix is not None:
+            Fin[:, N, :] += end_fix
         step = max(1, nblocks // 100)
         if self.method == "sub":
             m, S = self.m, self.S
-            Gin = self.quadrature(fin[jb])  # (nblocks, N, n)
+            Gin = self.quadrature(Fin)  # (nblocks, N, n)
             XW = (Gin.reshape(nblocks * S, m * n) @ self.TmT).reshape(nblocks, S, m * n)
             PT, sub = self.PT, self.sub
             KN = K * N
@@ -206,7 +213,7 @@ class BlockIntegrator:
                 if k % step == 0:
                     progress.update(k)
         elif self.method == "dense":
-            XW = fin[jb].reshape(nblocks, (N + 1) * n) @ self.QinT  # particular solutions from zero
+            XW = Fin.reshape(nblocks, (N + 1) * n) @ self.QinT  # particular solutions from zero
             MT = self.MT
             L = K * N + 1
             for k in range(nblocks):
@@ -215,7 +222,7 @@ class BlockIntegrator:
                 if k % step == 0:
                     progress.update(k)
         else:
-            Gin = self.quadrature(fin[jb])  # (nblocks, N, n)
+            Gin = self.quadrature(Fin)  # (nblocks, N, n)
             A = self.A
             for k in range(nblocks):
                 a = k * N

@@ -143,12 +143,20 @@ def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, phi: 
     off_in = Kin * N
     fin = delayed_sum(S.B, W, 0, J, N, off_in) + delayed_sum(S.E, U, 0, J, N, off_in)
 
+    # arrays start at 0 (zero before): B_i w(t − i h) jumps at t = i h, the right end of
+    # block i − 1, where that block needs the left limit (0), not w(0)
+    end_fix = np.zeros((nblocks, S.n_x))
+    for M, sig, arr in ((S.B, w, W), (S.E, u, U)):
+        if sig is not None and not callable(sig) and arr.shape[1] and off_in > 0:
+            jump = arr[off_in] - arr[off_in - 1]  # w(0) − w(0⁻): 0 for a constant vector
+            for i in range(1, min(M.shape[0], nblocks + 1)):
+                end_fix[i - 1] -= M[i] @ jump
     integ = block_integrator(S.A, N, dtv)
     show = want_progress(progress, J)
     # the integrator wants exactly KA blocks of history before 0
     base = (Kh - KA) * N
     with Progress(nblocks, show, "plant") as bar:
-        integ.run(X[base:], fin, nblocks, bar)
+        integ.run(X[base:], fin, nblocks, bar, end_fix=end_fix if np.any(end_fix) else None)
 
     off_x = Kh * N
     Y = (

@@ -76,10 +76,12 @@ def input_samples(sig: Any, n: int, *, j_min: int, j_max: int, n_steps: int, dt:
     if callable(sig):
         return sample_signal(sig, t, n, name)
     arr = np.asarray(sig, dtype=float)
-    if arr.ndim == 1 and n == 1:
-        arr = arr[None, :]
+    if arr.ndim == 0 and n == 1:
+        arr = arr.reshape(1)
     if arr.ndim == 1 and arr.shape == (n,) and n_steps + 1 != n:
         return sample_signal(arr, t, n, name)  # a constant vector
+    if arr.ndim == 1 and n == 1:
+        arr = arr[None, :]
     if arr.shape != (n, n_steps + 1):
         raise DimensionError(
             f"{name} has shape {np.shape(sig)}; expected a callable of t or samples of shape "
