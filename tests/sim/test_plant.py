@@ -103,17 +103,18 @@ def test_constant_coefficient_system_is_exact_for_polynomial_input():
     assert np.max(np.abs(r.x[:, -1] - fine.x[:, -1])) < 1e-12
 
 
-def test_dense_and_chunked_block_evaluations_agree(scalar_dde):
-    """The three evaluations of the block map (one matrix per block, per sub-block, or scan) agree."""
+@pytest.mark.parametrize("N, nblocks, K", [(4, 23, 1), (50, 5, 1), (3, 11, 2), (40, 4, 2), (1, 9, 1)])
+def test_block_evaluations_agree(N, nblocks, K):
+    """The four evaluations of the block map (per block, per sub-block, per group of blocks,
+    scan) agree; 23 blocks of 4 = groups of 8 plus a remainder, N = 50 = 2 sub-blocks of 25."""
     from uio_ring.sim._progress import Progress
 
-    A = np.array([[[-0.5, 1.0], [0.0, -2.0]], [[0.3, 0.0], [-1.0, 0.2]]])
-    N, nblocks = 20, 7
-    X0 = np.zeros((N + nblocks * N + 1, 2))
-    X0[: N + 1] = np.linspace(0, 1, N + 1)[:, None] * [1.0, -1.0]
+    A = np.array([[[-0.5, 1.0], [0.0, -2.0]], [[0.3, 0.0], [-1.0, 0.2]], [[0.1, -0.2], [0.0, 0.3]]])[: K + 1]
+    X0 = np.zeros((K * N + nblocks * N + 1, 2))
+    X0[: K * N + 1] = np.linspace(0, 1, K * N + 1)[:, None] * [1.0, -1.0]
     fin = np.sin(np.arange(nblocks * N + 1)[:, None] * [0.1, 0.05])
     outs = []
-    for method in ("dense", "chunked", "sub"):
+    for method in ("dense", "chunked", "sub", "super"):
         X = X0.copy()
         BlockIntegrator(A, N, 0.01, method=method).run(X, fin, nblocks, Progress(1, False))
         outs.append(X)

@@ -14,6 +14,9 @@ Two evaluations of the same map:
   one matrix applied to the delayed samples it reads, plus ``Φ^{r+1}`` times its start
   value, plus the input part (precomputed for all blocks at once) — a few ``matvec``
   per sub-block, O(m n²) flops per step;
+* *super* (N ≤ 16): groups of ``B = 32 // N`` blocks are one matrix applied to the
+  window before the group (the group's own delayed values are composed in), plus the
+  input part — one ``matvec`` per 32 steps;
 * *dense*: the whole block is one matrix ``M`` applied to the window
   ``x[(k−K)N … kN]`` (K = deg A) — one ``matvec`` per block, O(N n²) per step;
 * *chunked* (large N): per block, delayed forcing, quadrature, and a
@@ -32,6 +35,8 @@ __all__ = ["BlockIntegrator", "block_integrator", "block_stencils"]
 DENSE_MAX_ENTRIES = 6_000_000
 SUB_MAX = 32  # largest sub-block (steps)
 SUB_MIN = 8  # below this divisor of N, sub-blocks cost more Python than they save
+SUPER_MAX_N = 16  # up to this N, groups of blocks are advanced at once
+SUPER_STEPS = 32  # steps per group
 
 
 def sub_block_size(N: int) -> int:
@@ -121,14 +126,16 @@ class BlockIntegrator:
         dense_size = (N * n) ** 2 + (N * n) * (K * N + 1) * n
         m = sub_block_size(N)
         if method == "auto":
-            if m >= SUB_MIN or N <= SUB_MAX:
+            if N <= SUPER_MAX_N:
+                method = "super"
+            elif m >= SUB_MIN or N <= SUB_MAX:
                 method = "sub"
             else:
                 method = "dense" if dense_size <= DENSE_MAX_ENTRIES else "chunked"
         self.method = method
         if method == "sub":
             self._init_sub(A, m, npts)
-        elif method == "dense":
+        elif method in ("dense", "super"):
             P, T = toeplitz_powers(self.Phi, N)
             Qd = np.zeros((N, n, K * N + 1, n))
             rows = np.arange(N)
@@ -144,6 +151,8 @@ class BlockIntegrator:
             for m in range(npts):
                 Qin[rows, :, self.idx[:, m], :] += self.W[:, m]
             self.QinT = (T @ Qin.reshape(N * n, (N + 1) * n)).T.copy()
+            if method == "super":
+                self._init_super()
         else:
             self.scan = LinearScan(self.Phi, chunk=min(32, max(N, 1)))
 
@@ -167,6 +176,27 @@ class BlockIntegrator:
                     Qd[rows, :, i - 1, idx_c[:, q] - lo, :] += self.W[c * m : (c + 1) * m, q] @ A[i]
             Md = T @ Qd.reshape(m * n, max(K, 1) * width * n)
             self.sub.append((lo, width, Md.T.copy()))
+
+    def _init_super(self) -> None:
+        """Groups of B blocks (small N): the map from the window before the group and the
+        input forcing of its B blocks to its B·N new samples, by composing block maps."""
+        N, n, K = self.N, self.n, self.K
+        B = max(1, SUPER_STEPS // N)
+        L = K * N + 1
+        dw, df = L * n, (N + 1) * n
+        D = dw + B * df
+        samples = [np.eye(n, D, k=j * n) for j in range(L)]  # coefficient rows of each sample
+        M1, Q1 = self.MT.T, self.QinT.T
+        for b in range(B):
+            win = np.concatenate(samples[len(samples) - L :], axis=0)  # (L n, D)
+            sel = np.zeros((df, D))
+            sel[:, dw + b * df : dw + (b + 1) * df] = np.eye(df)
+            Xb = M1 @ win + Q1 @ sel  # (N n, D)
+            samples.extend(Xb[r * n : (r + 1) * n] for r in range(N))
+        out = np.concatenate(samples[L:], axis=0)  # (B N n, D)
+        self.B = B
+        self.SwT = out[:, :dw].T.copy()
+        self.SfT = out[:, dw:].T.copy()
 
     def quadrature(self, F: np.ndarray) -> np.ndarray:
         """Forcing samples on blocks ``(B, N+1, n)`` → step forcings ``(B, N, n)``."""
@@ -212,6 +242,21 @@ class BlockIntegrator:
                     X[r0 + 1 : r0 + m + 1] = acc.reshape(m, n)
                 if k % step == 0:
                     progress.update(k)
+        elif self.method == "super":
+            B, L = self.B, K * N + 1
+            ns = nblocks // B
+            XS = Fin[: ns * B].reshape(ns, B * (N + 1) * n) @ self.SfT
+            SwT = self.SwT
+            for g in range(ns):
+                a = g * B * N
+                X[a + L : a + L + B * N] = (X[a : a + L].reshape(-1) @ SwT + XS[g]).reshape(B * N, n)
+                if g % max(1, ns // 100) == 0:
+                    progress.update(g * B)
+            MT = self.MT
+            XW = Fin[ns * B :].reshape(nblocks - ns * B, (N + 1) * n) @ self.QinT
+            for k in range(ns * B, nblocks):  # the blocks left over
+                a = k * N
+                X[a + L : a + L + N] = (X[a : a + L].reshape(-1) @ MT + XW[k - ns * B]).reshape(N, n)
         elif self.method == "dense":
             XW = Fin.reshape(nblocks, (N + 1) * n) @ self.QinT  # particular solutions from zero
             MT = self.MT
