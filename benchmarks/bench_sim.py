@@ -60,7 +60,7 @@ def ours(sys, design, h, dt, t_final):
     """Plant + observer with the same conventions as the DDE above; returns t, x, ξ."""
     plant = simulate(sys, h=h, t_final=t_final, dt=dt, w=w_num, phi=PHI)
     obs = DelayObserverSimulator(design, h=h, dt=dt, y_history=true_y_history(sys, design, h, dt))
-    xi = obs.run(plant.y, return_z=True) - hl_y(obs, plant.y)
+    xi = obs.run(plant.y, output="xi")
     return plant.t, plant.x, xi
 
 
@@ -76,12 +76,6 @@ def true_y_history(sys, design, h, dt):
     W = w_num(tt).T
     off = K * N + L
     return (delayed_sum(C, X, -L, -1, N, off) + delayed_sum(D, W, -L, -1, N, off)).T
-
-
-def hl_y(obs, y):
-    L = obs.history_length
-    rows = np.concatenate([obs._y_history.T, y.T])
-    return delayed_sum(obs.HL, rows, 0, y.shape[1] - 1, obs.N, L).T
 
 
 def build_jitcdde(sys, design, h):

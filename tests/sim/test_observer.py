@@ -183,3 +183,19 @@ def test_observer_order_through_the_start_up(paper_design):
     errs = [np.abs(xs[N] - xs[80]).max() for N in (5, 10, 20)]
     p = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     assert np.all(p >= 2.8), (errs, p)
+
+
+def test_run_outputs_are_consistent(paper_design):
+    """x̂ = T_L⁻¹(δ) ẑ and ẑ = ξ + (HΛ)(δ) y, checked on the arrays run() returns."""
+    from uio_ring.sim._convert import coefficient_arrays, poly_matmul
+
+    r = simulate(paper_design.system, h=0.01, t_final=0.2, dt=0.002, w=paper_w, phi=CONST_PHI)
+    obs = DelayObserverSimulator(paper_design, h=0.01, dt=0.002)
+    xi, z, xh = (obs.run(r.y, output=o) for o in ("xi", "z", "x_hat"))
+    N, k = obs.N, np.arange(40, r.y.shape[1])  # t ≥ 0.08 s: every delayed sample is inside the record
+    HL = poly_matmul(coefficient_arrays(paper_design.H), coefficient_arrays(paper_design.Lam))
+    TL = coefficient_arrays(paper_design.T_left_inverse)
+    assert np.allclose(z[:, k], xi[:, k] + sum(HL[i] @ r.y[:, k - i * N] for i in range(len(HL))))
+    assert np.allclose(xh[:, k], sum(TL[i] @ z[:, k - i * N] for i in range(len(TL))))
+    with pytest.raises(SimulationError, match="output='w'"):
+        obs.run(r.y, output="w")

@@ -276,18 +276,21 @@ class DelayObserverSimulator:
         return self._apply(self.TL, self._zbuf, [(h - i * N) % c for i in range(self.TL.shape[0])])
 
     # ------------------------------------------------------------------ whole record
-    def run(self, y: Any, u: Any = None, *, return_z: bool = False) -> np.ndarray:
+    def run(self, y: Any, u: Any = None, *, output: str = "x_hat") -> np.ndarray:
         """Estimates ``x̂`` (shape ``(n_x, T)``) for a record ``y`` of shape ``(n_y, T)`` from t = 0.
 
         Same numbers as calling :meth:`step` on each sample (the streaming state is not
-        touched).  ``return_z=True`` returns ẑ ``(n_z, T)`` instead.
+        touched).  ``output="z"`` returns ẑ and ``output="xi"`` the observer state ξ
+        (both ``(n_z, T)``) instead of x̂.
         """
         if u is not None:
             raise DimensionError("u was given, but the observer has no known input (n_u = 0)")
         with blas_single_thread():
-            return self._run(y, return_z)
+            return self._run(y, output)
 
-    def _run(self, y: Any, return_z: bool) -> np.ndarray:
+    def _run(self, y: Any, output: str) -> np.ndarray:
+        if output not in ("x_hat", "z", "xi"):
+            raise SimulationError(f"output={output!r}: expected 'x_hat', 'z' or 'xi'")
         Y = np.asarray(y, dtype=float)
         if Y.ndim == 1 and self.n_y == 1:
             Y = Y[None, :]
@@ -316,8 +319,10 @@ class DelayObserverSimulator:
             xi[1:] = LinearScan(self.Phi, chunk=16).run(xi0, Gq)
         else:
             xi = xi0[None, :]
+        if output == "xi":
+            return xi.T
         Z = xi + delayed_sum(self.HL, Yrows, 0, T - 1, N, L)
-        if return_z:
+        if output == "z":
             return Z.T
         Kz = self.lag * N
         Zrows = np.concatenate([np.repeat(Z[:1], Kz, axis=0), Z])
