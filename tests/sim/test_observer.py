@@ -102,7 +102,7 @@ def test_step_equals_run(paper_design):
     assert np.allclose(online, offline, rtol=1e-10, atol=1e-9 * np.abs(offline).max())
     assert np.allclose(online[:, 0], [1.0, 2.0, 3.0, 4.0])  # x̂(0) = x_hat0
     # constant memory: the buffers do not grow with the number of steps
-    assert obs._ybuf.shape[0] == obs.history_length + 1 and obs._zbuf.shape[0] == obs.lag * obs.N + 1
+    assert obs._yb.capacity == obs.history_length + 1 and obs._zb.capacity == obs.lag * obs.N + 1
     obs.reset()
     assert np.allclose(obs.step(plant.y[:, 0]), offline[:, 0])
 

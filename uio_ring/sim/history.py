@@ -137,6 +137,27 @@ class HistoryBuffer:
         self._head = self.capacity - 1  # index of the newest sample
         self.steps = 0
 
+    @classmethod
+    def from_samples(cls, samples: Any, *, h: Any, dt: Any) -> HistoryBuffer:
+        """A buffer holding exactly ``samples`` (shape ``(n, L)``, oldest first; the last is "now").
+
+        >>> buf = HistoryBuffer.from_samples([[0.0, 1.0, 2.0, 3.0]], h=0.2, dt=0.1)
+        >>> buf.capacity, buf.lookup(1), buf.lookup(1, 1)
+        (4, array([1.]), array([0.]))
+        """
+        arr = np.asarray(samples, dtype=float)
+        if arr.ndim != 2 or arr.shape[1] < 1:
+            raise DimensionError(f"samples have shape {arr.shape}; expected (n, L) with L ≥ 1")
+        self = cls.__new__(cls)
+        self.h, self.dt = as_float(h, "h"), as_float(dt, "dt")
+        self.N = steps_per_delay(self.h, self.dt)
+        self.n, self.capacity = arr.shape[0], arr.shape[1]
+        self.max_delay = (self.capacity - 1) // self.N
+        self._buf = np.ascontiguousarray(arr.T)
+        self._head = self.capacity - 1
+        self.steps = 0
+        return self
+
     def push(self, sample: Any) -> None:
         """Append the sample at the next grid time ``t_now + dt``."""
         v = np.asarray(sample, dtype=float).reshape(-1)

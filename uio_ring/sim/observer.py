@@ -32,6 +32,7 @@ from uio_ring.sim._expint import LinearScan, phi_functions, stencil_weights
 from uio_ring.sim._grid import as_float, steps_per_delay
 from uio_ring.sim._threads import blas_single_thread
 from uio_ring.sim.errors import DimensionError, NotSupportedError, SimulationError
+from uio_ring.sim.history import HistoryBuffer
 from uio_ring.sim.plant import delayed_sum, plant_run, resolve_h
 from uio_ring.sim.result import SimulationResult
 
@@ -199,7 +200,6 @@ class DelayObserverSimulator:
     def reset(self) -> None:
         """Back to t = 0 (nothing received yet)."""
         self.k = -1
-        self._ybuf = np.empty((0, self.n_y))
 
     def step(self, y_k: Any, u_k: Any = None) -> np.ndarray:
         """Take the output sample at ``t_k = k·dt`` and return the estimate ``x̂(t_k)``."""
@@ -211,27 +211,19 @@ class DelayObserverSimulator:
         _finite(y, "y_k")
         N, L = self.N, self.history_length
         if self.k < 0:
-            # ring buffer of y: capacity L + 1 (indices −L … 0 relative to now)
-            self._yc = L + 1
-            self._ybuf = np.empty((self._yc, self.n_y))
-            self._ybuf[:L] = self._pre(y)
-            self._ybuf[L] = y
-            self._yh = L  # position of the newest sample
-            Y = self._ybuf
-            # g at k = −2, −1, 0
-            self._g = [self._gsum(Y, L - 2 + q) for q in range(3)]
+            # y: the last L + 1 samples (t_k − L dt … t_k); ẑ: the last lag·N + 1
+            Y = np.concatenate([self._pre(y), y[None, :]])
+            self._yb = HistoryBuffer.from_samples(Y.T, h=self.h, dt=self.dt)
+            self._g = [self._gsum(Y, L - 2 + q) for q in range(3)]  # g at k = −2, −1, 0
             self._xi = self._xi_start(Y, L)
             z = self._xi + self._hsum(Y, L)
-            self._zc = self.lag * N + 1
-            self._zbuf = np.repeat(z[None, :], self._zc, axis=0)
-            self._zh = self._zc - 1
+            self._zb = HistoryBuffer(self.n_z, h=self.h, dt=self.dt, max_delay=self.lag, phi=z)
             self.k = 0
             return self._xhat()
-        self._yh = (self._yh + 1) % self._yc
-        self._ybuf[self._yh] = y
-        g_new = self._gsum_ring()
+        self._yb.push(y)
+        g_new = self._delayed(self.JL, self._yb)
         g = self._g
-        r = (self.k) % N  # position in its block of the step's left end t_{k}, k = old count
+        r = self.k % N  # position in its block of the step's left end t_k (k = old count)
         if self.k < self.guard_blocks * N and r == 0:
             W = self.W_first
             forcing = W[0] @ g[2] + W[1] @ g_new
@@ -243,37 +235,26 @@ class DelayObserverSimulator:
             forcing = W[0] @ g[0] + W[1] @ g[1] + W[2] @ g[2] + W[3] @ g_new
         self._xi = self.Phi @ self._xi + forcing
         self._g = [g[1], g[2], g_new]
-        z = self._xi + self._hsum_ring()
-        self._zh = (self._zh + 1) % self._zc
-        self._zbuf[self._zh] = z
+        self._zb.push(self._xi + self._delayed(self.HL, self._yb))
         self.k += 1
         return self._xhat()
 
     @staticmethod
-    def _apply(M: np.ndarray, buf: np.ndarray, rows: list[int]) -> np.ndarray:
-        """``Σ_i M_i buf[rows[i]]``."""
-        out = M[0] @ buf[rows[0]]
+    def _delayed(M: np.ndarray, buf: HistoryBuffer) -> np.ndarray:
+        """``Σ_i M_i s(t_now − i h)`` from a history buffer."""
+        out = M[0] @ buf.lookup(0)
         for i in range(1, M.shape[0]):
-            out = out + M[i] @ buf[rows[i]]
+            out = out + M[i] @ buf.lookup(i)
         return out
 
     def _gsum(self, Y: np.ndarray, pos: int) -> np.ndarray:
-        return self._apply(self.JL, Y, [pos - i * self.N for i in range(self.JL.shape[0])])
+        return sum((self.JL[i] @ Y[pos - i * self.N] for i in range(1, self.JL.shape[0])), self.JL[0] @ Y[pos])
 
     def _hsum(self, Y: np.ndarray, pos: int) -> np.ndarray:
-        return self._apply(self.HL, Y, [pos - i * self.N for i in range(self.HL.shape[0])])
-
-    def _gsum_ring(self) -> np.ndarray:
-        c, h, N = self._yc, self._yh, self.N
-        return self._apply(self.JL, self._ybuf, [(h - i * N) % c for i in range(self.JL.shape[0])])
-
-    def _hsum_ring(self) -> np.ndarray:
-        c, h, N = self._yc, self._yh, self.N
-        return self._apply(self.HL, self._ybuf, [(h - i * N) % c for i in range(self.HL.shape[0])])
+        return sum((self.HL[i] @ Y[pos - i * self.N] for i in range(1, self.HL.shape[0])), self.HL[0] @ Y[pos])
 
     def _xhat(self) -> np.ndarray:
-        c, h, N = self._zc, self._zh, self.N
-        return self._apply(self.TL, self._zbuf, [(h - i * N) % c for i in range(self.TL.shape[0])])
+        return self._delayed(self.TL, self._zb)
 
     # ------------------------------------------------------------------ whole record
     def run(self, y: Any, u: Any = None, *, output: str = "x_hat") -> np.ndarray:
