@@ -16,7 +16,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.sim.conftest import paper_phi, paper_w
 from uio_ring.sim import (
     DelayObserverSimulator,
     NotSupportedError,
@@ -26,6 +25,8 @@ from uio_ring.sim import (
     simulate_observer,
 )
 from uio_ring.sim.errors import DimensionError
+
+from .conftest import paper_phi, paper_w
 
 CONST_PHI = [1.0, 0.0, -1.0, 0.5]
 

@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from tests.sim.conftest import ArraySystem
 from uio_ring.sim import SimulationError, simulate
 from uio_ring.sim._blocks import BlockIntegrator
 from uio_ring.sim.errors import DimensionError
+
+from .conftest import ArraySystem
 
 
 @cache

@@ -8,10 +8,11 @@ import sys
 import numpy as np
 import pytest
 
-from tests.sim.conftest import paper_w
 from uio_ring.sim import HistoryBuffer, SimulationError, simulate, simulate_observer
 from uio_ring.sim._expint import LinearScan, stencil_weights
 from uio_ring.sim.errors import DimensionError
+
+from .conftest import paper_w
 
 
 def test_history_lookup_is_exact_and_wraps():
