@@ -105,3 +105,25 @@ def test_progress_bar_on_request(paper_design, capsys):
     from uio_ring.sim._progress import want_progress
 
     assert want_progress(None, 10**9) is False  # PYTEST_CURRENT_TEST is set
+
+
+def test_to_pandas_or_a_clear_missing_dependency(paper_design):
+    from uio_ring.errors import MissingDependencyError
+
+    r = simulate_observer(paper_design, h=0.01, t_final=0.02, dt=0.001, w=paper_w)
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        with pytest.raises(MissingDependencyError, match="pandas"):
+            r.to_pandas()
+    else:
+        df = r.to_pandas()
+        assert list(df.columns[:2]) == ["x[0]", "x[1]"] and "e_x[3]" in df.columns and len(df) == 21
+
+
+def test_result_repr_and_labels(paper_design):
+    r = simulate_observer(paper_design, h=0.01, t_final=0.02, dt=0.001, w=paper_w)
+    assert "plant+observer" in repr(r) and r.errors["x[2]"].shape == (21,)
+    with pytest.raises(KeyError, match="no such signal"):
+        r.states["z"]
+    assert np.array_equal(np.asarray(r.estimates), r.x_hat)
