@@ -1,0 +1,146 @@
+"""Can the observer normal form of paper 000 be used?  One report, for ``auto``.
+
+Conditions (paper 000, Assumptions 2.2–2.3, with the feed-through reduction of
+Appendix A): the system is delay-free, its unknown-input columns are
+independent (``rank [B; D] = n_w``), and it is strongly observable.  The
+input bounds (Assumption 2.1) are asked for by the design itself.
+
+The report also says whether the rank (observer-matching) condition holds —
+not needed here, but it is why paper 001's observer may refuse a system this
+method accepts (the aircraft example of paper 000 has ``C B = 0``).
+
+>>> from uio_ring import DelaySystem
+>>> rep = normal_form_applicable(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None))
+>>> rep.ok, rep.matching_condition
+(True, False)
+>>> print(normal_form_applicable(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[0, 1]]", None)).reason)
+not strongly observable: invariant zero(s): roots of s ≈ {0}
+"""
+
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass
+from typing import Any
+
+from uio_ring.analysis.strong_observability import StrongObservabilityReport, constant_matrices, is_strongly_observable
+from uio_ring.ring import constant as qc
+from uio_ring.systems.delay_system import DelaySystem
+
+__all__ = ["NormalFormApplicability", "normal_form_applicable"]
+
+
+@dataclass(frozen=True)
+class NormalFormApplicability:
+    """Verdict: does the observer normal form (paper 000) apply to this system?
+
+    Attributes
+    ----------
+    holds
+        All conditions hold (``ok`` is an alias).
+    reason
+        The first failed condition, in words (empty when it holds).
+    delay_free, independent_inputs
+        δ-degree 0; ``rank [B; D] = n_w``.
+    strong_observability
+        The :class:`~uio_ring.analysis.strong_observability.StrongObservabilityReport`
+        (``None`` when the system has delays).
+    matching_condition
+        ``rank [[CB, D], [D, 0]] = rank D + rank [B; D]`` (informative; ``None`` with delays).
+    """
+
+    holds: bool
+    reason: str
+    delay_free: bool
+    independent_inputs: bool
+    strong_observability: StrongObservabilityReport | None
+    matching_condition: bool | None
+
+    @property
+    def ok(self) -> bool:
+        return self.holds
+
+    @property
+    def name(self) -> str:
+        return "observer normal form (paper 000) applicability"
+
+    @property
+    def summary(self) -> str:
+        """One line for ``auto``: why this method was chosen or skipped."""
+        if not self.holds:
+            return f"normal-form: skipped — {self.reason}"
+        extra = "" if self.matching_condition else "; the matching condition fails, which this method does not need"
+        return f"normal-form: applies — strongly observable (no invariant zeros, left invertible){extra}"
+
+    def __str__(self) -> str:
+        lines = [f"{self.name}: {'holds' if self.holds else 'FAILS'}"]
+        if self.strong_observability is not None:
+            lines.append("  " + str(self.strong_observability).replace("\n", "\n  "))
+        if self.matching_condition is not None:
+            lines.append(f"  matching condition: {'holds' if self.matching_condition else 'fails (not needed)'}")
+        if not self.holds:
+            lines.append(f"  reason: {self.reason}")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
+        so = "" if self.strong_observability is None else "<br>" + self.strong_observability._repr_html_()
+        return f"<b>{html.escape(self.name)}</b>: {'holds' if self.holds else 'FAILS'}{reason}{so}"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "method": "normal-form",
+            "holds": self.holds,
+            "reason": self.reason,
+            "delay_free": self.delay_free,
+            "independent_inputs": self.independent_inputs,
+            "matching_condition": self.matching_condition,
+            "strong_observability": None if self.strong_observability is None else self.strong_observability.to_dict(),
+        }
+
+
+def normal_form_applicable(sys: DelaySystem) -> NormalFormApplicability:
+    """Check the assumptions of paper 000's observer normal form; never raises on failure.
+
+    Parameters
+    ----------
+    sys
+        Any :class:`~uio_ring.systems.DelaySystem`.
+
+    Returns
+    -------
+    NormalFormApplicability
+        ``ok``, ``reason``, ``summary`` (a line for ``auto``) and the
+        strong-observability report.
+
+    Examples
+    --------
+    >>> from uio_ring import DelaySystem
+    >>> normal_form_applicable(DelaySystem("[[d]]", "[[1]]", "[[1]]", None)).reason
+    'the system has delays (δ-degree 1); the observer normal form is for delay-free systems'
+    """
+    if not sys.is_delay_free:
+        return NormalFormApplicability(
+            False,
+            f"the system has delays (δ-degree {sys.max_delay_degree}); the observer normal form is for delay-free systems",
+            False, False, None, None,
+        )
+    M = constant_matrices(sys)
+    B, C, D = M["B"], M["C"], M["D"]
+    m = sys.n_w
+    rBD = qc.qrank(qc.qvstack([B, D], m))
+    rD = qc.qrank(D)
+    rM = qc.qrank(qc.qvstack([qc.qhstack([C * B, D], sys.n_y), qc.qhstack([D, qc.qzeros(sys.n_y, m)], sys.n_y)], 2 * m))
+    matching = rM == rD + rBD
+    so = is_strongly_observable(sys)
+    indep = rBD == m
+    if not indep:
+        reason = (
+            f"the unknown-input columns are dependent: rank [B; D] = {rBD} < n_w = {m}; "
+            "combine the unknown inputs into independent ones first"
+        )
+    elif not so.holds:
+        reason = f"not strongly observable: {so.reason}"
+    else:
+        reason = ""
+    return NormalFormApplicability(not reason, reason, True, indep, so, matching)
