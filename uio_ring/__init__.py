@@ -64,6 +64,27 @@ _LAZY: dict[str, str] = {
     "design_zheng_bejarano": "uio_ring.design.zheng_bejarano",
     "zheng_bejarano_from_choices": "uio_ring.design.zheng_bejarano",
     "delay_uio_certificate": "uio_ring.verify.delay_uio",
+    # delay-free methods I (issue 6): strong observability, observer normal form (paper 000)
+    "rosenbrock_matrix": "uio_ring.analysis.strong_observability",
+    "invariant_zeros": "uio_ring.analysis.strong_observability",
+    "InvariantZeros": "uio_ring.analysis.strong_observability",
+    "is_strongly_observable": "uio_ring.analysis.strong_observability",
+    "is_strongly_detectable": "uio_ring.analysis.strong_observability",
+    "is_strong_star_detectable": "uio_ring.analysis.strong_observability",
+    "StrongObservabilityReport": "uio_ring.analysis.strong_observability",
+    "weakly_unobservable_subspace": "uio_ring.analysis.strong_observability",
+    "relative_degrees": "uio_ring.analysis.infinite_structure",
+    "observability_indices": "uio_ring.analysis.infinite_structure",
+    "infinite_zero_structure": "uio_ring.analysis.infinite_structure",
+    "normal_form_chain_lengths": "uio_ring.analysis.infinite_structure",
+    "normal_form_applicable": "uio_ring.analysis.normal_form_applicability",
+    "NormalFormApplicability": "uio_ring.analysis.normal_form_applicability",
+    "design_normal_form": "uio_ring.design.normal_form",
+    "NormalFormDesign": "uio_ring.design.normal_form",
+    "levant_gains": "uio_ring.design.red_gains",
+    "normal_form_certificate": "uio_ring.verify.normal_form",
+    "NormalFormObserver": "uio_ring.sim.normal_form_observer",
+    "simulate_normal_form_observer": "uio_ring.sim.normal_form_observer",
 }
 
 __all__ = sorted(_LAZY) + ["__version__"]

@@ -1,9 +1,29 @@
 """Analysis layer: structural properties of delay systems (exact, over Q[δ])."""
 
 from uio_ring.analysis.assumptions import check_assumptions
+from uio_ring.analysis.infinite_structure import (
+    InfiniteZeroStructure,
+    ObservabilityIndices,
+    RelativeDegrees,
+    infinite_zero_structure,
+    normal_form_chain_lengths,
+    observability_indices,
+    relative_degrees,
+)
+from uio_ring.analysis.normal_form_applicability import NormalFormApplicability, normal_form_applicable
 from uio_ring.analysis.observability import unknown_input_observability
 from uio_ring.analysis.rank_condition import check_rank_condition, matching_matrix
 from uio_ring.analysis.report import AssumptionsReport, ObservabilityReport, RankConditionReport
+from uio_ring.analysis.strong_observability import (
+    InvariantZeros,
+    StrongObservabilityReport,
+    invariant_zeros,
+    is_strong_star_detectable,
+    is_strongly_detectable,
+    is_strongly_observable,
+    rosenbrock_matrix,
+    weakly_unobservable_subspace,
+)
 
 __all__ = [
     "AssumptionsReport",
@@ -13,4 +33,22 @@ __all__ = [
     "check_rank_condition",
     "matching_matrix",
     "unknown_input_observability",
+    # issue 6
+    "InfiniteZeroStructure",
+    "InvariantZeros",
+    "NormalFormApplicability",
+    "ObservabilityIndices",
+    "RelativeDegrees",
+    "StrongObservabilityReport",
+    "infinite_zero_structure",
+    "invariant_zeros",
+    "is_strong_star_detectable",
+    "is_strongly_detectable",
+    "is_strongly_observable",
+    "normal_form_applicable",
+    "normal_form_chain_lengths",
+    "observability_indices",
+    "relative_degrees",
+    "rosenbrock_matrix",
+    "weakly_unobservable_subspace",
 ]

@@ -5,6 +5,7 @@
 
 from uio_ring.sim.errors import NotSupportedError, SimulationError
 from uio_ring.sim.history import HistoryBuffer
+from uio_ring.sim.normal_form_observer import NormalFormObserver, simulate_normal_form_observer
 from uio_ring.sim.observer import DelayObserverSimulator, simulate_observer
 from uio_ring.sim.plant import simulate
 from uio_ring.sim.result import SimulationResult
@@ -19,4 +20,6 @@ __all__ = [
     "UniformNoise",
     "SimulationError",
     "NotSupportedError",
+    "NormalFormObserver",
+    "simulate_normal_form_observer",
 ]
