@@ -50,6 +50,11 @@ _LAZY: dict[str, str] = {
     "MissingDependencyError": "uio_ring.errors",
     "NotObservableError": "uio_ring.errors",
     "SpecError": "uio_ring.errors",
+    # spec files and design files (issue 5)
+    "load_spec": "uio_ring.spec.loader",
+    "load_design": "uio_ring.spec.designs",
+    "save_design": "uio_ring.spec.designs",
+    "design_auto": "uio_ring.design.methods",
     # systems / analysis / design (issue 3) — add entries here
     "DelaySystem": "uio_ring.systems.delay_system",
     "delay_system": "uio_ring.systems.delay_system",
