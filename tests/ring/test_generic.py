@@ -122,3 +122,27 @@ def test_generic_solve_when_V_is_singular_at_the_first_points():
     assert solve_left(V, X0 @ V) == X0
     with pytest.raises(NoPolynomialSolutionError):
         solve_left(V, PolyMatrix.identity(n))
+
+
+@pytest.mark.parametrize("n", [6, 7, 9])
+def test_two_nontrivial_factors_by_the_adjugate_tier(n):
+    from uio_ring.ring._generic import generic_invariant_factors
+
+    rng = random.Random(100 + n)
+    P, Q = random_unimodular(rng, n, 2 * n), random_unimodular(rng, n, 2 * n)
+    M = P @ PolyMatrix.diag(*([1] * (n - 2) + ["(d + 1)*(d - 3)", "(d + 1)**2*(d - 3)*(d - 2)"])) @ Q
+    got = generic_invariant_factors(M._r, n)
+    assert got is not None
+    assert tuple(got) == tuple(f._p for f in invariant_factors_by_elimination(M))
+    assert invariant_factors(M) == invariant_factors_by_elimination(M)
+
+
+def test_three_nontrivial_factors_fall_back_to_elimination():
+    from uio_ring.ring._generic import generic_invariant_factors
+
+    rng = random.Random(5)
+    n = 6
+    P, Q = random_unimodular(rng, n, 12), random_unimodular(rng, n, 12)
+    M = P @ PolyMatrix.diag(1, 1, 1, "d", "d", "d") @ Q
+    assert generic_invariant_factors(M._r, n) is None
+    assert [str(f) for f in invariant_factors(M)] == ["1", "1", "1", "d", "d", "d"]

@@ -58,21 +58,24 @@ def first_points(count: int) -> list[int]:
 _VANDERMONDE_INVERSES: dict[int, flint.fmpq_mat] = {}
 
 
-def _vandermonde_inverse(count: int) -> flint.fmpq_mat:
-    inv = _VANDERMONDE_INVERSES.get(count)
+def _vandermonde_inverse(xs: Sequence[int]) -> flint.fmpq_mat:
+    count = len(xs)
+    standard = list(xs) == first_points(count)
+    inv = _VANDERMONDE_INVERSES.get(count) if standard else None
     if inv is None:
-        xs = first_points(count)
         v = flint.fmpq_mat(count, count, [flint.fmpq(x) ** e for x in xs for e in range(count)])
         inv = v.inv()
-        _VANDERMONDE_INVERSES[count] = inv  # a cache of constants: results never depend on it
+        if standard:
+            _VANDERMONDE_INVERSES[count] = inv  # a cache of constants: results never depend on it
     return inv
 
 
-def interpolate_columns(values: flint.fmpq_mat) -> list[flint.fmpq_poly]:
-    """Interpolate every column of ``values`` (row k = values at the k-th point of
-    :func:`points`) in one matrix product; returns one polynomial per column."""
+def interpolate_columns(values: flint.fmpq_mat, xs: Sequence[int] | None = None) -> list[flint.fmpq_poly]:
+    """Interpolate every column of ``values`` (row k = values at ``xs[k]``, by default the
+    k-th point of :func:`points`) in one matrix product; one polynomial per column.
+    Precondition: the xs are distinct."""
     count, k = values.nrows(), values.ncols()
-    coeffs = _vandermonde_inverse(count) * values
+    coeffs = _vandermonde_inverse(first_points(count) if xs is None else xs) * values
     entries = coeffs.entries()
     return [flint.fmpq_poly([entries[e * k + j] for e in range(count)]) for j in range(k)]
 

@@ -31,6 +31,7 @@ from uio_ring.ring import _evaluation as ev
 __all__ = [
     "generic_hermite",
     "generic_last_factor",
+    "generic_invariant_factors",
     "generic_solve_left",
     "GENERIC_MIN_SIZE",
     "GENERIC_MIN_SIZE_FACTORS",
@@ -69,12 +70,6 @@ def _sample(a: dn.Rows, n: int, count: int, need_inverse: bool):
     return None  # pragma: no cover
 
 
-def _interpolate(xs: list[int], ys: list[flint.fmpq]) -> flint.fmpq_poly:
-    if xs == ev.first_points(len(xs)):
-        return ev.interpolate_columns(flint.fmpq_mat(len(ys), 1, ys))[0]
-    return ev.interpolate(xs, ys)
-
-
 def _adjugate_column(a: dn.Rows, n: int, need_inverse: bool):
     """det M and c = adj(M)·r as polynomials, plus the samples used."""
     dbound = ev.minor_degree_bound(a, n, n, n)
@@ -82,7 +77,7 @@ def _adjugate_column(a: dn.Rows, n: int, need_inverse: bool):
     if sample is None:
         return None
     xs, dets, sols = sample
-    det = _interpolate(xs, dets)
+    det = ev.interpolate_columns(flint.fmpq_mat(len(dets), 1, dets), xs)[0]
     if det.is_zero():
         return None
     rhs = flint.fmpq_mat(n, 1, [k + 1 for k in range(n)])
@@ -92,11 +87,7 @@ def _adjugate_column(a: dn.Rows, n: int, need_inverse: bool):
         cols.append([dx * y[i, 0] for i in range(n)])
     abound = ev.minor_degree_bound(a, n, n, n - 1)
     k = abound + 1
-    if xs[:k] == ev.first_points(k):
-        vals = flint.fmpq_mat(k, n, [v for row in cols[:k] for v in row])
-        c = ev.interpolate_columns(vals)
-    else:
-        c = [ev.interpolate(xs[:k], [row[i] for row in cols[:k]]) for i in range(n)]
+    c = ev.interpolate_columns(flint.fmpq_mat(k, n, [v for row in cols[:k] for v in row]), xs[:k])
     return det, c, sample, abound
 
 
@@ -110,6 +101,53 @@ def generic_last_factor(a: dn.Rows, n: int) -> flint.fmpq_poly | None:
     if not bk.gcd(c[n - 1], det).is_one():
         return None
     return bk.monic(det)
+
+
+def _compressed_minor(a: dn.Rows, n: int, k: int, seed: int) -> flint.fmpq_poly:
+    """``det(P·M·Q)`` for fixed pseudo-random integer P (k×n) and Q (n×k): a Q-linear
+    combination of the k×k minors of M (Cauchy–Binet), by evaluation."""
+    import random
+
+    rng = random.Random(seed)  # fixed seed: the result depends only on M
+    P = flint.fmpq_mat(k, n, [rng.randint(-9, 9) for _ in range(k * n)])
+    Q = flint.fmpq_mat(n, k, [rng.randint(-9, 9) for _ in range(n * k)])
+    coeffs = [P * c * Q for c in ev.coefficient_mats(a, n, n)]
+    count = k * max(dn.mat_degree(a), 0) + 1
+    ys = [ev.evaluate(coeffs, x).det() for x in ev.first_points(count)]
+    return ev.interpolate_columns(flint.fmpq_mat(count, 1, ys))[0]
+
+
+def generic_invariant_factors(a: dn.Rows, n: int) -> list[flint.fmpq_poly] | None:
+    """Invariant factors of a nonsingular n×n M when at most two are non-trivial, else None.
+
+    Tier 1: ``gcd(c_n, det) = 1`` proves (1, …, 1, det).  Tier 2: the whole adjugate
+    is interpolated; the gcd of its entries is exactly ``d_{n−1}`` (the gcd of the
+    (n−1)-minors), so ``s_n = det / d_{n−1}``; two compressed (n−2)-minors with
+    gcd 1 prove ``d_{n−2} = 1``, hence ``s_{n−1} = d_{n−1}`` and the others are 1.
+    """
+    got = _adjugate_column(a, n, need_inverse=True)
+    if got is None:
+        return None
+    det, c, (xs, dets, invs), abound = got
+    one = bk.ONE
+    monic_det = bk.monic(det)
+    if bk.gcd(c[n - 1], det).is_one():
+        return [one] * (n - 1) + [monic_det]
+    k = abound + 1
+    if n < 3:
+        return None
+    values = [(dx * inv).entries() for dx, inv in zip(dets[:k], invs[:k], strict=True)]
+    adj = ev.interpolate_columns(flint.fmpq_mat(k, n * n, [v for row in values for v in row]), xs[:k])
+    g = bk.ZERO
+    for p in adj:
+        g = bk.gcd(g, p)
+        if g.is_one():
+            return [one] * (n - 1) + [monic_det]
+    g1 = _compressed_minor(a, n, n - 2, seed=1)
+    g2 = _compressed_minor(a, n, n - 2, seed=2)
+    if g1.is_zero() or g2.is_zero() or not bk.gcd(g1, g2).is_one():
+        return None
+    return [one] * (n - 2) + [bk.monic(g), monic_det // bk.monic(g)]
 
 
 def generic_hermite(a: dn.Rows, n: int) -> tuple[dn.Rows, dn.Rows, list[flint.fmpq_poly]] | None:
@@ -138,10 +176,7 @@ def generic_hermite(a: dn.Rows, n: int) -> tuple[dn.Rows, dn.Rows, list[flint.fm
         fx = flint.fmpq(x)
         hx = flint.fmpq_mat(n, n, [p(fx) for row in H for p in row])
         values.append((hx * inv).entries())
-    if xs[:k] == ev.first_points(k):
-        polys = ev.interpolate_columns(flint.fmpq_mat(k, n * n, [v for row in values for v in row]))
-    else:
-        polys = [ev.interpolate(xs[:k], [row[e] for row in values]) for e in range(n * n)]
+    polys = ev.interpolate_columns(flint.fmpq_mat(k, n * n, [v for row in values for v in row]), xs[:k])
     U = [polys[i * n : (i + 1) * n] for i in range(n)]
     return H, U, h
 
@@ -203,7 +238,7 @@ def _solve_by_points_avoiding_roots(
         sol = vx.transpose().solve(wx.transpose()).transpose()
         xs.append(x)
         ys.append([dx * e for e in sol.entries()])
-    entries = [ev.interpolate(xs, [y[e] for y in ys]) for e in range(m * n)]
+    entries = ev.interpolate_columns(flint.fmpq_mat(len(xs), m * n, [e for y in ys for e in y]), xs)
     return _divide_exactly(entries, det, m, n)
 
 

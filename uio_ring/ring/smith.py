@@ -20,6 +20,7 @@ from uio_ring.ring._generic import (
     GENERIC_MIN_SIZE,
     GENERIC_MIN_SIZE_FACTORS,
     generic_hermite,
+    generic_invariant_factors,
     generic_last_factor,
 )
 from uio_ring.ring.certificate import Certificate, Check
@@ -230,7 +231,8 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
 
     Computed without transforms.  Square matrices of size ≥ ``GENERIC_MIN_SIZE_FACTORS``
     first try the certified generic path (factors ``1, …, 1, det/lc`` proved by
-    ``gcd(c_n, det) = 1``, see :mod:`uio_ring.ring._generic`).
+    ``gcd(c_n, det) = 1``; from size ``GENERIC_MIN_SIZE`` also two non-trivial
+    factors, from the interpolated adjugate; see :mod:`uio_ring.ring._generic`).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> invariant_factors(PolyMatrix("[[d, 0], [0, d**2], [1, 1]]"))
@@ -242,6 +244,10 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
         if last is not None:
             one = Poly._wrap(bk.ONE, M.var)
             return (one,) * (n - 1) + (Poly._wrap(last, M.var),)
+        if n >= GENERIC_MIN_SIZE:
+            facs = generic_invariant_factors(M._r, n)
+            if facs is not None:
+                return tuple(Poly._wrap(f, M.var) for f in facs)
     return invariant_factors_by_elimination(M)
 
 
