@@ -50,6 +50,9 @@ _LAZY: dict[str, str] = {
     "MissingDependencyError": "uio_ring.errors",
     "NotObservableError": "uio_ring.errors",
     "SpecError": "uio_ring.errors",
+    # numerics (issue 4): float64 simulation
+    "simulate": "uio_ring.sim.plant",
+    "simulate_observer": "uio_ring.sim.observer",
     # spec files and design files (issue 5)
     "load_spec": "uio_ring.spec.loader",
     "load_design": "uio_ring.spec.designs",
