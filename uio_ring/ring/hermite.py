@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
+from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
 
 if TYPE_CHECKING:
@@ -178,7 +179,9 @@ def hermite(M: PolyMatrix) -> HermiteResult:
 
     Algorithm
     ---------
-    Square matrices of size ≥ ``GENERIC_MIN_SIZE`` first try the certified
+    Square nonsingular matrices of size ≥ ``GENERIC_MIN_SIZE`` whose row degrees add
+    up to more than ``deg det`` are first reduced to weak Popov form ``W·M``
+    (:mod:`uio_ring.ring._reduce`).  They then try the certified
     evaluation/interpolation path of :mod:`uio_ring.ring._generic` (generic
     shape ``[[I, h], [0, det]]``, U = H·M⁻¹ interpolated; O(n⁴·deg) rational
     operations in C).  Otherwise: Euclidean elimination column by column with
@@ -202,6 +205,11 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     m, n = M.shape
     var = M.var
     if m == n >= GENERIC_MIN_SIZE:
+        reduced = degree_reduced(M._r, n, track=True)
+        if reduced is not None:  # H(M) = H(W M) and U = U_R W
+            R, W = reduced
+            res = hermite(PolyMatrix._new(R, n, n, var))
+            return HermiteResult(res.H, res.U @ PolyMatrix._new(W or [], n, n, var), res.rank, res.pivots)
         got = generic_hermite(M._r, n)
         if got is not None:
             H, U, _ = got

@@ -23,7 +23,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import flint
+
 from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring.errors import DimensionError
 from uio_ring.ring.poly import Poly
@@ -31,7 +34,7 @@ from uio_ring.ring.poly import Poly
 if TYPE_CHECKING:
     from uio_ring.ring.matrix import PolyMatrix
 
-__all__ = ["rank", "det"]
+__all__ = ["rank", "det", "det_raw"]
 
 
 def rank(M: PolyMatrix) -> int:
@@ -63,9 +66,14 @@ def det(M: PolyMatrix) -> Poly:
     m, n = M.shape
     if m != n:
         raise DimensionError(f"det needs a square matrix; this one is {m}×{n}")
+    return Poly._wrap(det_raw(M._r, n), M.var)
+
+
+def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
+    """Determinant of the n×n rows ``a`` (precondition: square, not checked)."""
     if n == 0:
-        return Poly._wrap(bk.ONE, M.var)
-    a = M._r
+        return bk.ONE
+    m = n
     coeffs = ev.coefficient_mats(a, m, n)
     bound = ev.minor_degree_bound(a, m, n, n)
     xs, ys = [], []
@@ -74,4 +82,4 @@ def det(M: PolyMatrix) -> Poly:
         ys.append(bk.mat_det(ev.evaluate(coeffs, x)))
         if len(xs) > bound:
             break
-    return Poly._wrap(ev.interpolate(xs, ys), M.var)
+    return ev.interpolate_columns(flint.fmpq_mat(len(ys), 1, ys))[0]

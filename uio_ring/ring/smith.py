@@ -23,6 +23,7 @@ from uio_ring.ring._generic import (
     generic_invariant_factors,
     generic_last_factor,
 )
+from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
 from uio_ring.ring.hermite import reduce_transform, row_echelon
 from uio_ring.ring.poly import Poly
@@ -156,7 +157,9 @@ def smith(M: PolyMatrix) -> SmithResult:
 
     Algorithm
     ---------
-    Square matrices of size ≥ ``GENERIC_MIN_SIZE`` first try the certified
+    Square nonsingular matrices of size ≥ ``GENERIC_MIN_SIZE`` whose row degrees
+    add up to more than ``deg det`` are first reduced to weak Popov form ``W·M``
+    (:mod:`uio_ring.ring._reduce`; then U = U_R·W).  They then try the certified
     generic path of :mod:`uio_ring.ring._generic` (``S = H·V`` with H the generic
     Hermite form and ``V = [[I, −h], [0, 1]]``).  Otherwise:
     alternating row and column echelon forms with least-degree pivots until
@@ -180,6 +183,11 @@ def smith(M: PolyMatrix) -> SmithResult:
     m, n = M.shape
     var = M.var
     if m == n >= GENERIC_MIN_SIZE:
+        reduced = degree_reduced(M._r, n, track=True)
+        if reduced is not None:  # S(M) = S(W M): U = U_R W, V = V_R
+            R, W = reduced
+            res = smith(PolyMatrix._new(R, n, n, var))
+            return SmithResult(res.S, res.U @ PolyMatrix._new(W or [], n, n, var), res.V, res.invariant_factors)
         got = generic_hermite(M._r, n)
         if got is not None:  # H = [[I, h], [0, δ_n]] and V = [[I, -h], [0, 1]]
             H, U, h = got
@@ -238,8 +246,13 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     >>> invariant_factors(PolyMatrix("[[d, 0], [0, d**2], [1, 1]]"))
     (1, d)
     """
+    from uio_ring.ring.matrix import PolyMatrix
+
     m, n = M.shape
     if m == n >= GENERIC_MIN_SIZE_FACTORS:
+        reduced = degree_reduced(M._r, n, track=False)
+        if reduced is not None:  # low degree, large coefficients: elimination is faster here
+            return invariant_factors_by_elimination(PolyMatrix._new(reduced[0], n, n, M.var))
         last = generic_last_factor(M._r, n)
         if last is not None:
             one = Poly._wrap(bk.ONE, M.var)
