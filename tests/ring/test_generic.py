@@ -146,3 +146,20 @@ def test_three_nontrivial_factors_fall_back_to_elimination():
     M = P @ PolyMatrix.diag(1, 1, 1, "d", "d", "d") @ Q
     assert generic_invariant_factors(M._r, n) is None
     assert [str(f) for f in invariant_factors(M)] == ["1", "1", "1", "d", "d", "d"]
+
+
+@pytest.mark.parametrize("n", [6, 8])
+def test_degree_reduction_path_keeps_the_forms(n):
+    """P·D·Q with high-degree unimodular P, Q: row degrees far above deg det, so the
+    weak Popov reduction runs first; H, S and the factors must equal elimination's."""
+    from uio_ring.ring._reduce import degree_reduced
+
+    rng = random.Random(40 + n)
+    P, Q = random_unimodular(rng, n, 3 * n), random_unimodular(rng, n, 3 * n)
+    M = P @ PolyMatrix.diag(*([1] * (n - 2) + ["d + 1", "(d + 1)*(d - 2)"])) @ Q
+    assert degree_reduced(M._r, n, track=False) is not None
+    h = hermite(M)
+    assert h.H == hermite_by_elimination(M).H and h.U @ M == h.H and is_unimodular(h.U)
+    s = smith(M)
+    assert s.U @ M @ s.V == s.S and is_unimodular(s.U) and is_unimodular(s.V)
+    assert s.invariant_factors == invariant_factors(M) == invariant_factors_by_elimination(M)
