@@ -17,7 +17,10 @@ linearly between samples and ``u`` held over the step::
 (``s = [ȳ; ỹ_0] = H_s x̄ + …``, ``S = [Π̄, B̄_ỹ0]``, ``Γ_u = ∫_0^h e^{Ā_p r} dr B̄_u``
 the exact step response of the plant to the held ``u``).  Removing the known
 input's response before interpolating makes the discrete error dynamics
-independent of ``u`` even when ``u`` jumps every step (closed loop).  A naive
+independent of ``u`` even when ``u`` jumps every step (closed loop).  What is
+left is the interpolation error of the outputs' free response, ``≈ h³ Π̄ ȳ''/12``
+per step: it grows with the plant state and with ``‖Π̄‖``, so large states or
+badly scaled normal forms need smaller steps.  A naive
 Euler step of the linear part leaves a residual of order ``h·Ā B̄ u`` that no
 differentiator rejects (the normal-form coordinates are badly scaled:
 ``|B̄|`` ≈ 8·10³ in the aircraft example).  The differentiator terms:
