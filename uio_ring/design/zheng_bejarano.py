@@ -253,18 +253,25 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> tuple[
     """Least ``l`` with ``Ō_l = [C̄; C̄Ā; …; C̄Ā^{l−1}]`` left unimodular, and ``Ō_l``.
 
     ``None`` when there is none: by Cayley–Hamilton over Q[δ] the row module of
-    ``Ō_l`` is constant from ``l = n`` on, so ``l ≤ max(n, 1)`` suffices.
+    ``Ō_l`` is constant from ``l = n`` on, so ``l ≤ max(n, 1)`` suffices.  A left
+    unimodular matrix has full column rank at every δ, so ``Ō_l(0)`` is tested
+    first (exact, cheap) and the unimodularity test runs only when it passes.
     """
     r = C_bar.rows
     if r == 0:
         return None
     blocks = [C_bar]
+    at_zero = [C_bar.eval(0)]
     last = C_bar
     for l in range(1, max(n, 1) + 1):
         if l > 1:
             last = last @ A_bar
             blocks.append(last)
+            at_zero.append(last.eval(0))
         if r * l < n:
+            continue
+        # necessary (and cheap): full column rank at δ = 0
+        if PolyMatrix.vstack(*at_zero).rank() < n:
             continue
         O = PolyMatrix.vstack(*blocks)
         if is_left_unimodular(O):
@@ -356,9 +363,8 @@ def _assemble(
     l_star, O = l_and_O
     if O_left_inverse is None:
         O_left_inverse = left_inverse(O)
-    CAl = C_bar @ (A_bar ** l_star)
     if F is None:
-        F = _F_from_row(CAl @ O_left_inverse, r, l_star)
+        F = _F_from_row(C_bar @ (A_bar**l_star) @ O_left_inverse, r, l_star)
     T = _normal_form_T(A_bar, C_bar, F, l_star)
     if T_left_inverse is None:
         T_left_inverse = left_inverse(T)
@@ -464,7 +470,11 @@ def _candidate_Us(sys: DelaySystem) -> tuple[int, list[tuple[str, PolyMatrix]]]:
         PolyMatrix.hstack(sys.B, _Z(n, sys.n_w)), PolyMatrix.hstack(sys.D, _Z(p, sys.n_w))
     )
     Vbar = solve_left(V, target)
-    useful = [i for i in range(rho) if not Vbar[0 : n + p, i : i + 1].is_zero()]
+    # moves through a column of Vbar with a nonzero Γ-part change C̃ (and so r); moves
+    # through the K-part only change Ā and are tried for small systems only
+    moves_C = [i for i in range(rho) if not Vbar[n : n + p, i : i + 1].is_zero()]
+    moves_A = [i for i in range(rho) if i not in moves_C and not Vbar[0:n, i : i + 1].is_zero()]
+    useful = moves_C + (moves_A if sys.n_x * max(1, sys.max_delay_degree) <= 12 else [])
     for j in range(hN.rank):
         c_j = hN.U[j : j + 1, 0:s] @ U_bot  # a row of the left kernel of M
         for i in useful:
@@ -544,9 +554,11 @@ def design_zheng_bejarano(
        ``U_bot`` spans the left kernel of ``M``; ``X`` changes ``Ā`` and ``C̃``
        only through ``X Ñ``, ``Ñ = U_bot [CA; C]`` (the w-free combinations of
        ``y`` and ``y'``).  We try ``X = 0`` and the one-step moves ``X Ñ = ±e_i g_j``
-       for each Hermite generator ``g_j`` of ``Ñ`` and each nonzero column ``i``
-       of ``Vbar`` — the moves that switch an output row on or off in ``C̃``
-       (this is how ``r`` changes between 2 and 3 in the paper's example).
+       for each Hermite generator ``g_j`` of ``Ñ`` and each column ``i`` of
+       ``Vbar`` with a nonzero ``Γ``-part — the moves that switch an output row
+       on or off in ``C̃`` (this is how ``r`` changes between 2 and 3 in the
+       paper's example); columns with only a ``K``-part (they change ``Ā``
+       alone) are tried when ``n_x·max(1, deg) ≤ 12``.
     2. *r and l*.*  For each ``U``, ``r = rank C̃`` and ``l*`` is the least
        ``l`` with ``Ō_l`` left unimodular (only ``l ≥ n_x / r`` are tested;
        candidates whose bound ``r·⌈n_x/r⌉`` cannot beat the best are skipped).
@@ -557,7 +569,11 @@ def design_zheng_bejarano(
        reduced left inverse of ``Ō_{l*}`` and from the reduced solution of
        ``[F_{l*}, …, F_1] Ō_{l*} = C̄ Ā^{l*}``; ``T_L⁻¹`` is the ring's reduced
        left inverse (reduced modulo the left kernel of ``T``).  The smallest
-       lag wins, then the smallest degree of ``J``; ties keep the first tried.
+       lag wins, then the smallest degrees of ``T`` and ``F``; ties keep the
+       first tried.  Finalists are tried in order of ``deg Ā + deg C̃``, and
+       the number of (U, Λ, F) combinations is capped by a budget that depends
+       on ``n_x·max(1, deg)`` only (48 up to 8, 8 up to 12, else 2), so the
+       result depends on the system alone, never on timing.
 
     Examples
     --------
@@ -627,29 +643,58 @@ def design_zheng_bejarano(
                 f"n_z = {best_nz}, has l* = {' or '.join(str(o) for o in options)})"
             )
         finalists = matching
-    # --- stage 2: lag for the finalists ---
-    best: tuple[tuple[int, int], DelayUIODesign] | None = None
+    # --- stage 2: lag for the finalists (T and T_L⁻¹ only; the winner is assembled) ---
+    finalists.sort(key=lambda c: (c[3].A_bar.degree() + c[3].C_tilde.degree(), c[1]))
+    budget = _assembly_budget(sys) if search else 1
+    best: tuple[tuple[int, int, int], tuple[Any, ...]] | None = None
+    tried = 0
     for _, _, label, s12, (l_star, _) in finalists:
-        lam_iter = _lambda_choices(s12.C_tilde) if search else iter([next(_lambda_choices(s12.C_tilde))])
-        for lam_label, Lam in lam_iter:
-            r = s12.C_tilde.rank()
+        if tried >= budget:
+            break
+        r = s12.C_tilde.rank()
+        for lam_label, Lam in _lambda_choices(s12.C_tilde):
+            if tried >= budget:
+                break
             C_bar = (Lam @ s12.C_tilde)[0:r, 0:n]
-            O = PolyMatrix.vstack(*[C_bar @ (s12.A_bar ** k) for k in range(l_star)])
+            rows = [C_bar]
+            for _k in range(l_star):
+                rows.append(rows[-1] @ s12.A_bar)
+            O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
             OL = left_inverse(O)
-            F_variants: list[tuple[str, PolyMatrix | None]] = [
-                ("F by (16) with the reduced left inverse of Ō", None)
+            variants: list[tuple[str, Any]] = [
+                ("F reduced modulo the left kernel of Ō", lambda: _F_from_row(solve_left(O, CAl), r, l_star)),
+                ("F by (16) with the reduced left inverse of Ō", lambda: _F_from_row(CAl @ OL, r, l_star)),
             ]
-            if search:
-                X = solve_left(O, C_bar @ (s12.A_bar ** l_star))
-                F_variants.append(("F reduced modulo the left kernel of Ō", _F_from_row(X, r, l_star)))
-            for f_label, F in F_variants:
-                des = _assemble(
-                    sys, s12, Lam, l_and_O=(l_star, O), F=F, O_left_inverse=OL, poles=poles,
-                    choice=f"{label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T",
-                    assumptions=report,
-                )
-                key = (des.lag, max(0, des.J.degree()))
+            for f_label, make_F in variants:
+                if tried >= budget:
+                    break
+                tried += 1
+                F = make_F()
+                T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
+                TL = left_inverse(T)
+                key = (max(0, TL.degree()), T.degree(), F.degree())
                 if best is None or key < best[0]:
-                    best = (key, des)
-    assert best is not None  # finalists is not empty
-    return best[1]
+                    choice = f"{label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T"
+                    best = (key, (s12, Lam, (l_star, O), F, OL, TL, choice))
+    assert best is not None  # finalists is not empty and budget ≥ 1
+    s12, Lam, lO, F, OL, TL, choice = best[1]
+    return _assemble(
+        sys, s12, Lam, l_and_O=lO, F=F, O_left_inverse=OL, T_left_inverse=TL, poles=poles,
+        choice=choice, assumptions=report,
+    )
+
+
+def _assembly_budget(sys: DelaySystem) -> int:
+    """How many (U, Λ, F) combinations stage 2 of the search evaluates.
+
+    Each costs a left inverse of ``T`` (``r·l* × n_x``, degrees growing like
+    ``l*·deg Ā``), the dominant cost of the design; the budget depends on the
+    size only, so the result depends only on the system (never on timing).
+    Measured with ``benchmarks/bench_design.py``.
+    """
+    size = sys.n_x * max(1, sys.max_delay_degree)
+    if size <= 8:
+        return 48
+    if size <= 12:
+        return 8
+    return 2
