@@ -661,15 +661,16 @@ def design_zheng_bejarano(
                 rows.append(rows[-1] @ s12.A_bar)
             O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
             OL = left_inverse(O)
-            variants: list[tuple[str, Any]] = [
-                ("F reduced modulo the left kernel of Ō", lambda: _F_from_row(solve_left(O, CAl), r, l_star)),
-                ("F by (16) with the reduced left inverse of Ō", lambda: _F_from_row(CAl @ OL, r, l_star)),
-            ]
-            for f_label, make_F in variants:
+            variants = (
+                "F reduced modulo the left kernel of Ō",
+                "F by (16) with the reduced left inverse of Ō",
+            )
+            for f_label in variants:
                 if tried >= budget:
                     break
                 tried += 1
-                F = make_F()
+                X = solve_left(O, CAl) if f_label.startswith("F reduced") else CAl @ OL
+                F = _F_from_row(X, r, l_star)
                 T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
                 TL = left_inverse(T)
                 key = (max(0, TL.degree()), T.degree(), F.degree())
