@@ -235,6 +235,9 @@ def state_delay_systems(draw):
         return [[draw(s) for _ in range(c)] for _ in range(r)]
 
     D = mat(p, m, st.sampled_from([0, 0, 0, 1]))
+    if draw(st.booleans()):  # a known input u with delays in E and F
+        return DelaySystem(mat(n, n, poly), mat(n, m, const), mat(p, n, const), D,
+                           E=mat(n, 1, poly), F=mat(p, 1, poly))
     return DelaySystem(mat(n, n, poly), mat(n, m, const), mat(p, n, const), D)
 
 

@@ -30,6 +30,12 @@ def check_assumptions(sys: DelaySystem) -> AssumptionsReport:
     AssumptionsReport
         ``holds`` iff both hold; ``failed`` names the failed ones and
         ``reason`` explains them.  Never raises because an assumption fails.
+
+    Examples
+    --------
+    >>> from uio_ring import DelaySystem
+    >>> check_assumptions(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)).holds
+    True
     """
     return AssumptionsReport(
         observability=unknown_input_observability(sys),

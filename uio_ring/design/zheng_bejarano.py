@@ -431,6 +431,17 @@ def zheng_bejarano_from_choices(
         ``U M`` or ``Λ C̃`` without the required zero rows, or ``poles`` of the wrong length.
     NoPolynomialSolutionError
         ``Vbar V = [[B, 0], [D, 0]]`` has no polynomial solution (Assumption 2 fails).
+
+    Examples
+    --------
+    Re-building a design from its own choices gives the same observer:
+
+    >>> from uio_ring import DelaySystem
+    >>> sys = DelaySystem("[[0, 1], [d, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)
+    >>> des = design_zheng_bejarano(sys)
+    >>> again = zheng_bejarano_from_choices(sys, U=des.U, Lam=des.Lam)
+    >>> again.certificate().ok, again.n_z == des.n_z
+    (True, True)
     """
     U_ = U if isinstance(U, PolyMatrix) else PolyMatrix(U)
     Lam_ = Lam if isinstance(Lam, PolyMatrix) else PolyMatrix(Lam)
