@@ -77,7 +77,10 @@ def levant_gains(mu: int, L: Any, *, lambdas: Sequence[Any] | None = None, digit
         raise DomainError(f"L = {Lf} must be positive")
     lam = tuple(exact_fraction(x, f"lambdas[{i}]") for i, x in enumerate(LEVANT_LAMBDAS if lambdas is None else lambdas))
     if len(lam) < mu:
-        raise DomainError(f"{len(lam)} Levant parameters given; a chain of length {mu} needs {mu} (λ_0 … λ_{mu - 1})")
+        raise DomainError(
+            f"{len(lam)} Levant parameters available; a chain of length {mu} needs {mu} (λ_0 … λ_{mu - 1}): "
+            "Levant's standard list stops at differentiator order 7, pass lambdas=… (or explicit gains)"
+        )
     kt = [0.0] * mu  # k̃_0 … k̃_{μ−1}
     kt[mu - 1] = float(lam[mu - 1])
     for i in range(1, mu):

@@ -1,0 +1,115 @@
+#!/usr/bin/env python
+"""Benchmark of the observer-normal-form design (paper 000) and its simulation.
+
+Design: for seeded random strongly observable systems with n = 5, 10, 20, 40
+(``m = max(1, n // 10)`` unknown inputs (chains longer than 8 get Levant's
+parameters continued linearly, for timing only), ``p = m + 1`` outputs, integer entries
+in [−2, 2], ``D = 0``; generically strongly observable since p > m), the time of
+
+* ``normal_form_applicable`` (Smith form of the Rosenbrock matrix and ``V*``),
+* ``design_normal_form`` (which includes that check, Steps 1–4, exact over Q),
+* its certificate,
+
+plus the chain lengths μ and the size (decimal digits) of the largest
+denominator of ``T``.  Simulation: steps per second of the aircraft
+Simulation 1 (n = 7) for each discretisation.  Timings are never asserted.
+
+Usage::
+
+    python benchmarks/bench_normal_form.py            # n = 5, 10, 20, 40
+    python benchmarks/bench_normal_form.py --sizes 5 10
+    python benchmarks/bench_normal_form.py --quick    # n = 5 and a short simulation
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+for p in (ROOT, ROOT / "tests"):
+    if str(p) not in sys.path:
+        sys.path.insert(0, str(p))
+
+import numpy as np  # noqa: E402
+
+from uio_ring import DelaySystem, design_normal_form, normal_form_applicable  # noqa: E402
+from uio_ring.sim import simulate_normal_form_observer  # noqa: E402
+
+
+#: Levant's standard parameters continued linearly (only to time long random chains; no tuning claim)
+LAMBDAS = [1.1, 1.5, 2, 3, 5, 7, 10, 12] + [12 + 3 * k for k in range(1, 40)]
+
+
+def random_system(n: int, seed: int) -> tuple[DelaySystem, int]:
+    """A random strongly observable system (drawn until one is); returns it and the draw count."""
+    rng = random.Random(seed)
+    m = max(1, n // 10)
+    p = m + 1
+    draws = 0
+    while True:
+        draws += 1
+        A = [[rng.randint(-2, 2) for _ in range(n)] for _ in range(n)]
+        B = [[rng.randint(-2, 2) for _ in range(m)] for _ in range(n)]
+        C = [[rng.randint(-2, 2) for _ in range(n)] for _ in range(p)]
+        sys_ = DelaySystem(A, B, C, None)
+        if normal_form_applicable(sys_).ok:
+            return sys_, draws
+
+
+def _digits(M) -> int:
+    return max((len(str(c.denominator)) for row in M.coefficient_lists()[0] for c in row), default=1)
+
+
+def bench_design(sizes: list[int]) -> None:
+    print("design (exact over Q)")
+    print(f"{'n':>4} {'m':>3} {'p':>3} {'draws':>5} {'check [s]':>10} {'design [s]':>11} {'cert [s]':>9}  "
+          f"{'mu':<14} {'digits(T)':>9}")
+    for n in sizes:
+        sys_, draws = random_system(n, seed=n)
+        t0 = time.perf_counter()
+        normal_form_applicable(sys_)
+        t1 = time.perf_counter()
+        d = design_normal_form(sys_, [1] * sys_.n_w, lambdas=LAMBDAS)
+        t2 = time.perf_counter()
+        ok = d.certificate().ok
+        t3 = time.perf_counter()
+        assert ok, "certificate failed"
+        print(f"{n:>4} {sys_.n_w:>3} {sys_.n_y:>3} {draws:>5} {t1 - t0:>10.3f} {t2 - t1:>11.3f} {t3 - t2:>9.3f}  "
+              f"{str(d.mu):<14} {_digits(d.T):>9}")
+
+
+def bench_sim(t_final: float) -> None:
+    from design import paper000
+
+    d = design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
+    w = lambda t: 0.008 + 0.01 * np.sin(2 * t) + 0.002 * np.cos(13 * t)  # noqa: E731
+    print("\nsimulation (aircraft, n = 7, plant + observer, dt = 1e-4)")
+    print(f"{'method':<10} {'steps':>7} {'time [s]':>9} {'steps/s':>9} {'max err t>3':>12}")
+    for method in ("implicit", "explicit", "euler"):
+        t0 = time.perf_counter()
+        r = simulate_normal_form_observer(d, t_final=t_final, dt=1e-4, w=w, x0=paper000.X0, method=method)
+        dt = time.perf_counter() - t0
+        steps = r.t.size - 1
+        late = r.t > min(3.0, 0.5 * t_final)
+        print(f"{method:<10} {steps:>7} {dt:>9.2f} {steps / dt:>9.0f} {r.error_norm()[late].max():>12.2e}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="*", default=[5, 10, 20, 40])
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    if args.quick:
+        bench_design([5])
+        bench_sim(0.5)
+    else:
+        bench_design(args.sizes)
+        bench_sim(6.0)
+
+
+if __name__ == "__main__":
+    main()
