@@ -23,16 +23,15 @@ input, which the paper does not treat: ``H_u = −H Λ F_u``,
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, ClassVar
+from typing import Any
 
 from uio_ring.analysis.assumptions import check_assumptions
 from uio_ring.analysis.rank_condition import matching_matrix
 from uio_ring.analysis.report import AssumptionsReport
-from uio_ring.design.base import ObserverDesign, matrix_to_data
+from uio_ring.design.delay_uio_design import DelayUIODesign
 from uio_ring.errors import DimensionError, DomainError, NotObservableError, UioRingError
-from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.hermite import hermite
 from uio_ring.ring.inverse import is_left_unimodular, is_unimodular, left_inverse
 from uio_ring.ring.matrix import PolyMatrix
@@ -44,165 +43,6 @@ __all__ = ["DelayUIODesign", "design_zheng_bejarano", "zheng_bejarano_from_choic
 
 _I = PolyMatrix.identity
 _Z = PolyMatrix.zeros
-
-
-# ----------------------------------------------------------------------------------------
-# the design object
-# ----------------------------------------------------------------------------------------
-@dataclass(frozen=True, repr=False)
-class DelayUIODesign(ObserverDesign):
-    """The Zheng–Bejarano delay UIO: every matrix of Steps 1–5, named as in paper 001.
-
-    Step 1: ``U M = [V; 0]`` (``M = [[CB, D], [D, 0]]``), ``Vbar V = [[B, 0], [D, 0]]``,
-    ``W = [Vbar, 0] U = [K; Gamma] = [[K1, K2], [Gamma1, Gamma2]]``.
-    Step 2: ``A_bar = A − K [CA; C]``, ``C_tilde = C − Gamma [CA; C]``,
-    ``Lam C_tilde = [C_bar; 0]`` with ``r = rank C_tilde``.
-    Step 3: ``O = Ō_{l*} = [C_bar; C_bar A_bar; …]`` left unimodular,
-    ``[F_{l*}, …, F_1] = C_bar A_bar^{l*} O_left_inverse`` (16), ``F = [F_1; …; F_{l*}]``,
-    ``T`` from (15) and ``T_left_inverse`` with ``T_left_inverse T = I``.
-    Step 4: ``A0``, ``C0`` (14), ``Gamma{1,2}_bar = Lam Gamma{1,2} Lam⁻¹`` (11),
-    ``K{1,2}_bar = T K{1,2} Lam⁻¹`` (20).
-    Step 5: ``L0 = A0 − G0 C0`` and ``H``, ``J`` from (22′).
-
-    ``n_z = r·l*`` is the observer order and ``lag`` the δ-degree of
-    ``T_left_inverse`` (the estimate lags by ``lag·h``).  ``poles`` are the
-    ``l*`` requested eigenvalues of ``A0 − G0 C0`` on each of the ``r`` output
-    channels.  ``choice`` says how U, Λ and the left inverses were chosen.
-    """
-
-    method: ClassVar[str] = "zheng_bejarano"
-
-    system: DelaySystem
-    U: PolyMatrix
-    V: PolyMatrix
-    Vbar: PolyMatrix
-    W: PolyMatrix
-    K: PolyMatrix
-    Gamma: PolyMatrix
-    K1: PolyMatrix
-    K2: PolyMatrix
-    Gamma1: PolyMatrix
-    Gamma2: PolyMatrix
-    A_bar: PolyMatrix
-    C_tilde: PolyMatrix
-    Lam: PolyMatrix
-    Lam_inverse: PolyMatrix
-    C_bar: PolyMatrix
-    r: int
-    l_star: int
-    O: PolyMatrix
-    O_left_inverse: PolyMatrix
-    F: PolyMatrix
-    T: PolyMatrix
-    T_left_inverse: PolyMatrix
-    A0: PolyMatrix
-    C0: PolyMatrix
-    K1_bar: PolyMatrix
-    K2_bar: PolyMatrix
-    Gamma1_bar: PolyMatrix
-    Gamma2_bar: PolyMatrix
-    poles: tuple[Fraction, ...]
-    G0: PolyMatrix
-    L0: PolyMatrix
-    H: PolyMatrix
-    J: PolyMatrix
-    H_u: PolyMatrix
-    J_u: PolyMatrix
-    choice: str = ""
-    assumptions: AssumptionsReport | None = field(default=None, compare=False)
-
-    @property
-    def n_z(self) -> int:
-        """Observer order ``r·l*`` (rows of ``T``)."""
-        return self.T.rows
-
-    @property
-    def lag(self) -> int:
-        """δ-degree of ``T_left_inverse``: ``x̂(t)`` uses ``ẑ`` up to ``lag·h`` in the past."""
-        return max(0, self.T_left_inverse.degree())
-
-    def F_blocks(self) -> tuple[PolyMatrix, ...]:
-        """``(F_1, …, F_{l*})``, the ``r × r`` blocks of ``F`` (F_1 on top)."""
-        r = self.r
-        return tuple(self.F[i * r : (i + 1) * r, 0:r] for i in range(self.l_star))
-
-    def certificate(self) -> Certificate:
-        """Every identity of Steps 1–5 and Theorem 4, checked exactly (see
-        :func:`uio_ring.verify.delay_uio_certificate`)."""
-        from uio_ring.verify.delay_uio import delay_uio_certificate
-
-        return delay_uio_certificate(self)
-
-    def simulator(self, *, h: Any, dt: Any, x_hat0: Any = None) -> Any:
-        """The numeric observer on the grid ``dt = h/N`` (``.step(y_k)``, ``.run(y)``): see
-        :class:`uio_ring.sim.DelayObserverSimulator`."""
-        from uio_ring.sim import DelayObserverSimulator
-
-        return DelayObserverSimulator(self, h=h, dt=dt, x_hat0=x_hat0)
-
-    # -- display and data -----------------------------------------------------------
-    def __repr__(self) -> str:
-        return (
-            f"DelayUIODesign(n_z={self.n_z}, lag={self.lag}, r={self.r}, l_star={self.l_star}, "
-            f"poles={[str(p) for p in self.poles]})"
-        )
-
-    def __str__(self) -> str:
-        lines = [
-            f"Zheng–Bejarano delay UIO: n_z = {self.n_z} (r = {self.r} channels × l* = {self.l_star}), "
-            f"lag = {self.lag} (estimate delayed by {self.lag}·h)",
-            f"  poles of A0 − G0 C0 on each channel: {[str(p) for p in self.poles]}",
-            "  ξ' = L0 ξ + J Λ y" + (" + J_u u" if self.system.n_u else ""),
-            "  ẑ  = ξ + H Λ y" + (" + H_u u" if self.system.n_u else ""),
-            "  x̂  = T_L⁻¹ ẑ",
-        ]
-        for name in ("Lam", "L0", "H", "J", "T_left_inverse"):
-            lines.append(f"  {name} =\n    " + str(getattr(self, name)).replace("\n", "\n    "))
-        if self.choice:
-            lines.append(f"  choice: {self.choice}")
-        return "\n".join(lines)
-
-    def to_latex(self) -> str:
-        eqs = [
-            r"\dot{\hat\xi} = L_0 \hat\xi + J(\delta)\Lambda(\delta) y"
-            + (r" + J_u(\delta) u" if self.system.n_u else ""),
-            r"\hat z = \hat\xi + H(\delta)\Lambda(\delta) y" + (r" + H_u(\delta) u" if self.system.n_u else ""),
-            r"\hat x = T_L^{-1}(\delta)\hat z",
-        ]
-        mats = [
-            (r"\Lambda", self.Lam),
-            ("L_0", self.L0),
-            ("H", self.H),
-            ("J", self.J),
-            (r"T_L^{-1}", self.T_left_inverse),
-        ]
-        body = r" \\ ".join(eqs) + r" \\ " + r" \\ ".join(f"{n} = {M.to_latex()}" for n, M in mats)
-        return (
-            r"\begin{gathered}"
-            + rf"\text{{Zheng–Bejarano UIO: }} n_z = {self.n_z},\ \text{{lag}} = {self.lag} \\ "
-            + body
-            + r"\end{gathered}"
-        )
-
-    _MATRICES: ClassVar[tuple[str, ...]] = (
-        "U", "V", "Vbar", "W", "K", "Gamma", "K1", "K2", "Gamma1", "Gamma2", "A_bar", "C_tilde",
-        "Lam", "Lam_inverse", "C_bar", "O", "O_left_inverse", "F", "T", "T_left_inverse", "A0",
-        "C0", "K1_bar", "K2_bar", "Gamma1_bar", "Gamma2_bar", "G0", "L0", "H", "J", "H_u", "J_u",
-    )
-
-    def to_dict(self) -> dict[str, Any]:
-        out: dict[str, Any] = {
-            "method": self.method,
-            "system": self.system.to_dict(),
-            "r": self.r,
-            "l_star": self.l_star,
-            "n_z": self.n_z,
-            "lag": self.lag,
-            "poles": [str(p) for p in self.poles],
-            "choice": self.choice,
-        }
-        out["matrices"] = {name: matrix_to_data(getattr(self, name)) for name in self._MATRICES}
-        return out
 
 
 # ----------------------------------------------------------------------------------------
