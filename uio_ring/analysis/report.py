@@ -86,7 +86,16 @@ class ObservabilityReport:
         lines = [f"{self.name}: {_verdict(self.holds)}"]
         lines.append(f"  k* = {self.k_star}, rank M_k* = {self.rank}, n_x = {self.n_x}")
         for k, fs in enumerate(self.invariant_factors):
-            lines.append(f"  k = {k}: Δ_{k} has {self.Delta[k].rows} row(s); invariant factors of N_{k}: {_factors_str(fs)}")
+            if not fs:
+                M = "[] (0×0)"
+            elif all(f.is_unit() for f in fs):
+                M = f"I_{len(fs)}"
+            else:
+                M = "diag" + _factors_str(fs)
+            lines.append(
+                f"  k = {k}: Δ_{k} has {self.Delta[k].rows} row(s); M_{k} = {M} "
+                f"(invariant factors of N_{k}: {_factors_str(fs)})"
+            )
         if not self.holds:
             lines.append(f"  reason: {self.reason}")
         return "\n".join(lines)

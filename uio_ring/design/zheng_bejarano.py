@@ -426,6 +426,13 @@ def design_zheng_bejarano(
        on ``n_x·max(1, deg)`` only (48 up to 8, 8 up to 12, else 2), so the
        result depends on the system alone, never on timing.
 
+    On the paper's example this gives ``(r, l*, n_z) = (3, 2, 6)`` with lag 1
+    (the paper: ``(2, 3, 6)``, lag 4); with three poles it keeps ``l* = 3``
+    and reaches lag 3.  An offline search over two moves, also with ``±δ``
+    multiples, found no ``n_z = 6`` design with lag 0 (lag 0 needs
+    ``n_z = 9``).  When ``D = 0``, ``Γ = 0`` and ``C̃ = C``: then ``r = n_y``
+    whatever the choice, and only ``l*`` and the lag can vary.
+
     Examples
     --------
     A delay-free chain of three integrators driven by the unknown input,
