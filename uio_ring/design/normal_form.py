@@ -533,7 +533,7 @@ def design_normal_form(
     >>> des.mu, des.T, des.d_bar_rows(), [float(k) for k in des.kappa[0]]
     ((2,), PolyMatrix([[1, 0], [0, 1]]), ((Fraction(1, 1),),), [4.74341649025, 11.0])
     """
-    rep = normal_form_applicable(sys)
+    rep = normal_form_applicable(sys)  # decisive: Smith form of P(s); V* is not recomputed here
     if not rep.ok:
         raise NotObservableError(f"the observer normal form does not apply: {rep.reason}", report=rep)
     M = {k: qc.qmat(v, k) for k, v in sys.matrices().items()}
@@ -591,8 +591,14 @@ def design_normal_form(
             lst.append(v)
         pw.append(lst)
 
+    c_rows = [_row(C_c, r) for r in range(pm)]
+    ct_cache: dict[tuple[int, int, int], Any] = {}
+
     def ct(r: int, k: int, s: int) -> Any:  # č_r Ǎ^k t_{e_s}
-        return (_row(C_c, r) * pw[s][k])[0, 0]
+        key = (r, k, s)
+        if key not in ct_cache:
+            ct_cache[key] = (c_rows[r] * pw[s][k])[0, 0]
+        return ct_cache[key]
 
     # ---- Step 3: β (48)–(53)
     beta: dict[tuple[int, int, int], Fraction] = {}
@@ -637,7 +643,7 @@ def design_normal_form(
             for row in range(nm):
                 T[row, c] = col[row, 0]
     T_inv = qc.qinverse(T, "T")
-    A_bar = T_inv * A * T
+    A_bar = T_inv * (A * T)
     D_bar = T_inv * D
     C_bar = Gamma * C * T
     B_bar = T_inv * mod.E

@@ -205,9 +205,10 @@ def qinverse(Q: QMat, name: str = "matrix") -> QMat:
         raise DimensionError(f"{name} is {n}×{Q.ncols()}; an inverse needs a square matrix")
     if n == 0:
         return flint.fmpq_mat(0, 0)
-    if Q.rank() < n:
-        raise DimensionError(f"{name} is singular (rank {Q.rank()} < {n})")
-    return Q.inv()
+    try:
+        return Q.inv()
+    except ZeroDivisionError:
+        raise DimensionError(f"{name} is singular (rank {Q.rank()} < {n})") from None
 
 
 def qsolve(Q: QMat, B: QMat, name: str = "matrix") -> QMat:
@@ -217,9 +218,10 @@ def qsolve(Q: QMat, B: QMat, name: str = "matrix") -> QMat:
         raise DimensionError(f"{name}: cannot solve a {n}×{Q.ncols()} system for a {B.nrows()}-row right side")
     if n == 0:
         return flint.fmpq_mat(0, B.ncols())
-    if Q.rank() < n:
-        raise DimensionError(f"{name} is singular (rank {Q.rank()} < {n})")
-    return Q.solve(B)
+    try:
+        return Q.solve(B)
+    except ZeroDivisionError:
+        raise DimensionError(f"{name} is singular (rank {Q.rank()} < {n})") from None
 
 
 def min_norm_left_solve(W: QMat, b: QMat) -> QMat | None:
