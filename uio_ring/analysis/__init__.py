@@ -10,7 +10,10 @@ from uio_ring.analysis.infinite_structure import (
     observability_indices,
     relative_degrees,
 )
-from uio_ring.analysis.normal_form_applicability import NormalFormApplicability, normal_form_applicable
+from uio_ring.analysis.normal_form_applicability import (
+    NormalFormApplicability,
+    normal_form_applicable,
+)
 from uio_ring.analysis.observability import unknown_input_observability
 from uio_ring.analysis.rank_condition import check_rank_condition, matching_matrix
 from uio_ring.analysis.report import AssumptionsReport, ObservabilityReport, RankConditionReport
