@@ -39,7 +39,6 @@ import numpy as np  # noqa: E402
 from uio_ring import DelaySystem, design_normal_form, normal_form_applicable  # noqa: E402
 from uio_ring.sim import simulate_normal_form_observer  # noqa: E402
 
-
 #: Levant's standard parameters continued linearly (only to time long random chains; no tuning claim)
 LAMBDAS = [1.1, 1.5, 2, 3, 5, 7, 10, 12] + [12 + 3 * k for k in range(1, 40)]
 

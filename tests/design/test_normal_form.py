@@ -9,8 +9,8 @@ from fractions import Fraction as Fr
 
 import pytest
 import sympy
-from design import paper000, paper001
 
+from design import paper000, paper001
 from uio_ring import (
     DelaySystem,
     NormalFormDesign,

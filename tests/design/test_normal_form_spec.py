@@ -8,8 +8,8 @@ from fractions import Fraction
 from pathlib import Path
 
 import yaml
-from design import paper000
 
+from design import paper000
 from uio_ring import DelaySystem, design_normal_form
 
 SPEC = Path(__file__).resolve().parents[2] / "examples" / "aircraft_normal_form.yaml"

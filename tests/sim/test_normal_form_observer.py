@@ -8,12 +8,16 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from design import paper000, paper001
 
-from uio_ring import DelaySystem, design_normal_form, design_zheng_bejarano, simulate_normal_form_observer
+from uio_ring import (
+    DelaySystem,
+    design_normal_form,
+    design_zheng_bejarano,
+    simulate_normal_form_observer,
+)
 from uio_ring.sim import NormalFormObserver, simulate_observer
 from uio_ring.sim.errors import NotSupportedError, SimulationError
-
-from design import paper000, paper001
 
 
 def delta(t):

@@ -23,7 +23,11 @@ import html
 from dataclasses import dataclass
 from typing import Any
 
-from uio_ring.analysis.strong_observability import StrongObservabilityReport, constant_matrices, is_strongly_observable
+from uio_ring.analysis.strong_observability import (
+    StrongObservabilityReport,
+    constant_matrices,
+    is_strongly_observable,
+)
 from uio_ring.ring import constant as qc
 from uio_ring.systems.delay_system import DelaySystem
 

@@ -262,7 +262,7 @@ class StrongObservabilityReport:
 
     Attributes
     ----------
-    property
+    kind
         ``"strongly observable"``, ``"strongly detectable"`` or ``"strong* detectable"``.
     holds
         The verdict (``ok`` is an alias).
@@ -281,7 +281,7 @@ class StrongObservabilityReport:
         For strong* detectability: the rank (observer-matching) report; else ``None``.
     """
 
-    property: str
+    kind: str
     holds: bool
     reason: str
     n_x: int
@@ -301,7 +301,7 @@ class StrongObservabilityReport:
 
     @property
     def name(self) -> str:
-        return f"{self.property} (Hautus 1983, paper 003 Prop. 1)"
+        return f"{self.kind} (Hautus 1983, paper 003 Prop. 1)"
 
     def __str__(self) -> str:
         lines = [f"{self.name}: {'holds' if self.holds else 'FAILS'}"]
@@ -327,7 +327,7 @@ class StrongObservabilityReport:
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "property": self.property,
+            "property": self.kind,
             "holds": self.holds,
             "reason": self.reason,
             "n_x": self.n_x,

@@ -44,10 +44,13 @@ from typing import Any, ClassVar
 
 import flint
 
-from uio_ring.analysis.normal_form_applicability import NormalFormApplicability, normal_form_applicable
+from uio_ring.analysis.normal_form_applicability import (
+    NormalFormApplicability,
+    normal_form_applicable,
+)
 from uio_ring.design.base import ObserverDesign, matrix_to_data
 from uio_ring.design.red_gains import levant_gains
-from uio_ring.errors import DimensionError, DomainError, NotObservableError
+from uio_ring.errors import DimensionError, DomainError, NotObservableError, UioRingError
 from uio_ring.ring import constant as qc
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
@@ -417,7 +420,8 @@ def _step1(A: Q, D: Q, C: Q) -> _Step1:
             # Case 2 (32)–(33)
             if m and not qc.is_qzero(zD):
                 zeta = qc.min_norm_left_solve(W, zD)
-                assert zeta is not None  # rank test above guarantees solvability
+                if zeta is None:  # pragma: no cover - excluded by the rank test (31)
+                    raise UioRingError("Step 1: z D is in the row space of W but (33) has no solution")
             else:
                 zeta = Q(1, p)
             zl = tuple(qc.frac(zeta[0, k]) for k in range(p))
@@ -567,10 +571,10 @@ def design_normal_form(
     # ---- Step 2: O_R (25) and t_{e_j} (47)
     O_rows = []
     for k in range(pm):
-        r = _row(C_c, k)
+        row_k = _row(C_c, k)
         for _ in range(mu[k]):
-            O_rows.append(r)
-            r = r * A_c
+            O_rows.append(row_k)
+            row_k = row_k * A_c
     O_R = qc.qvstack(O_rows, nm)
     ends = []
     b = 0
@@ -681,11 +685,9 @@ def design_normal_form(
 
     sm = mod.state_map * T
     wm = None if mod.w_map is None else mod.w_map * T
-    var = sys.A.var
     model = DelaySystem(_pm(A), _pm(D) if D.ncols() else PolyMatrix.zeros(nm, 0),
                         _pm(C) if C.nrows() else PolyMatrix.zeros(0, nm), None,
                         E=_pm(mod.E) if mod.E.ncols() else None)
-    del var
     return NormalFormDesign(
         system=sys,
         model=model,

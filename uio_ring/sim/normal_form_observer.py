@@ -408,14 +408,15 @@ def simulate_normal_form_observer(
     def u_at(k: int) -> np.ndarray:
         if Uo is not None:
             return Uo[:, k]
-        return np.asarray(feedback(t[k], obs.estimate(), obs.input_estimate()), dtype=float).reshape(nu)
+        assert feedback is not None  # one of u / feedback (checked above)
+        return np.asarray(feedback(t[k], obs.estimate(), obs.input_estimate()), dtype=np.float64).reshape(nu)
 
     uk = u_at(0)
     X[:, 0] = x
     Y[:, 0] = C @ x + D @ W[:, 0] + F @ uk
     obs.start(Y[:, 0], uk)
     XB[:, 0] = obs.xbar
-    s_prev = obs._s_prev
+    s_prev: np.ndarray = obs._signals(Y[:, 0], uk)
     for k in range(steps):
         Uall[:, k] = uk
         x = Pd @ x + Wf[:, k]

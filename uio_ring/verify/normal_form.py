@@ -133,7 +133,7 @@ def _plant_model(d: Any) -> dict[str, PolyMatrix]:
     ``[x; w; u]`` with the model state ``χ = [x; w]`` and new input ``w'``.
     """
     sys = d.system
-    n, m, p, nu = sys.n_x, sys.n_w, sys.n_y, sys.n_u
+    n, m, nu = sys.n_x, sys.n_w, sys.n_u
     A, B, C, D, E, F = sys.A, sys.B, sys.C, sys.D, sys.E, sys.F
     # measured [y; u] as a function of s = [x; w; u]
     yu = PolyMatrix.block([[C, D, F], [_Z(nu, n), _Z(nu, m), _I(nu)]])
