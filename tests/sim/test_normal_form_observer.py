@@ -131,6 +131,15 @@ def test_paper001_at_delta_zero_both_observers_converge():
     assert np.abs(r_nf.error[:, r_nf.t >= 2.0]).max() < 1e-2
 
 
+def test_bounded_output_noise_gives_a_bounded_error(sim1_design):
+    """Remark 3.7: with |v_j| ≤ η the error stays bounded.  A third-order differentiator is very
+    sensitive (the last derivative's error scales like η^{1/4}): η = 1e-4 gives ≈ 0.1."""
+    eta = 1e-4
+    res = simulate_normal_form_observer(sim1_design, t_final=4, dt=5e-4, w=delta, x0=paper000.X0, noise=eta)
+    assert res.noise is not None and 0 < np.abs(res.noise).max() <= eta
+    assert res.error_norm()[_window(res, 3.0)].max() < 0.5
+
+
 # ---------------------------------------------------------------------------- API
 def test_streaming_observer_reproduces_the_simulation(sim1_design):
     res = simulate_normal_form_observer(sim1_design, t_final=0.5, dt=1e-3, w=delta, x0=paper000.X0)

@@ -62,6 +62,7 @@ from scipy.linalg import expm
 from uio_ring.sim._convert import coefficient_arrays
 from uio_ring.sim.errors import DimensionError, NotSupportedError, SimulationError
 from uio_ring.sim.result import SimulationResult
+from uio_ring.sim.signals import as_noise
 
 __all__ = ["NormalFormObserver", "simulate_normal_form_observer", "METHODS"]
 
@@ -341,6 +342,7 @@ def simulate_normal_form_observer(
     x0: Any = None,
     x_hat0: Any = None,
     method: str = "implicit",
+    noise: Any = None,
 ) -> SimulationResult:
     """Simulate a delay-free plant and the normal-form observer on it.
 
@@ -361,7 +363,11 @@ def simulate_normal_form_observer(
         Plant initial state (default 0) and initial estimate of the model state
         (default 0; ``[x̂; ŵ]`` when the design reconstructs the input).
     method
-        ``"implicit"`` (default) or ``"explicit"`` Euler for the observer.
+        ``"implicit"`` (default), ``"explicit"`` or ``"euler"``; see the module docstring.
+    noise
+        Bounded output noise: an amplitude (per output or one for all) or a
+        :class:`~uio_ring.sim.UniformNoise`; added to the measured ``y`` (the
+        plant is unaffected).
 
     Returns
     -------
@@ -395,6 +401,8 @@ def simulate_normal_form_observer(
         raise DimensionError(f"x0 has shape {np.shape(x0)}; expected ({n},)")
     X = np.empty((n, steps + 1))
     Y = np.empty((p, steps + 1))
+    nz = as_noise(noise)
+    Nz = np.zeros((p, steps + 1)) if nz is None else nz.samples(p, steps + 1)
     Uall = np.zeros((nu, steps + 1))
 
     # plant: exact for A and the held u; w by quadratic interpolation on (t_k, t_k + h/2, t_{k+1})
@@ -413,7 +421,7 @@ def simulate_normal_form_observer(
 
     uk = u_at(0)
     X[:, 0] = x
-    Y[:, 0] = C @ x + D @ W[:, 0] + F @ uk
+    Y[:, 0] = C @ x + D @ W[:, 0] + F @ uk + Nz[:, 0]
     obs.start(Y[:, 0], uk)
     XB[:, 0] = obs.xbar
     s_prev: np.ndarray = obs._signals(Y[:, 0], uk)
@@ -422,7 +430,7 @@ def simulate_normal_form_observer(
         x = Pd @ x + Wf[:, k]
         if Uo is None:
             x += Ge @ uk
-        y_new = C @ x + D @ W[:, k + 1] + F @ uk
+        y_new = C @ x + D @ W[:, k + 1] + F @ uk + Nz[:, k + 1]
         s_new = S_y @ y_new + S_u @ uk if nu else S_y @ y_new
         obs.xbar = obs._advance(s_prev, s_new, uk)
         s_prev = s_new
@@ -447,6 +455,6 @@ def simulate_normal_form_observer(
         extra["w_error"] = W - WH
     return SimulationResult(
         t=t, x=X, y=Y, w=W, u=Uall, h=dtv, dt=dtv,
-        state_names=sys.state_names, output_names=sys.output_names,
+        state_names=sys.state_names, output_names=sys.output_names, noise=None if nz is None else Nz,
         x_hat=XH, error=X - XH, extra=extra,
     )
