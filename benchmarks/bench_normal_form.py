@@ -2,11 +2,12 @@
 """Benchmark of the observer-normal-form design (paper 000) and its simulation.
 
 Design: for seeded random strongly observable systems with n = 5, 10, 20, 40
-(``m = max(1, n // 10)`` unknown inputs (chains longer than 8 get Levant's
-parameters continued linearly, for timing only), ``p = m + 1`` outputs, integer entries
-in [−2, 2], ``D = 0``; generically strongly observable since p > m), the time of
+in two families — short chains (``p = max(m + 1, n // 5)`` outputs) and one long
+chain (``p = m + 1``) — with ``m = max(1, n // 10)`` unknown inputs (chains longer than 8 get Levant's
+parameters continued linearly, for timing only), integer entries
+in [−2, 2], ``D = 0`` (generically strongly observable since p > m), the time of
 
-* ``normal_form_applicable`` (Smith form of the Rosenbrock matrix and ``V*``),
+* ``normal_form_applicable`` (Smith form of the Rosenbrock matrix over Q[s]),
 * ``design_normal_form`` (which includes that check, Steps 1–4, exact over Q),
 * its certificate,
 
@@ -43,11 +44,15 @@ from uio_ring.sim import simulate_normal_form_observer  # noqa: E402
 LAMBDAS = [1.1, 1.5, 2, 3, 5, 7, 10, 12] + [12 + 3 * k for k in range(1, 40)]
 
 
-def random_system(n: int, seed: int) -> tuple[DelaySystem, int]:
-    """A random strongly observable system (drawn until one is); returns it and the draw count."""
+def random_system(n: int, seed: int, *, balanced: bool = False) -> tuple[DelaySystem, int]:
+    """A random strongly observable system (drawn until one is); returns it and the draw count.
+
+    ``p = m + 1`` outputs give one long chain (μ_1 ≈ n − p + 1); ``balanced`` uses
+    ``p = max(m + 1, n // 5)`` outputs, i.e. chains of length about 5.
+    """
     rng = random.Random(seed)
     m = max(1, n // 10)
-    p = m + 1
+    p = max(m + 1, n // 5) if balanced else m + 1
     draws = 0
     while True:
         draws += 1
@@ -63,12 +68,13 @@ def _digits(M) -> int:
     return max((len(str(c.denominator)) for row in M.coefficient_lists()[0] for c in row), default=1)
 
 
-def bench_design(sizes: list[int]) -> None:
-    print("design (exact over Q)")
+def bench_design(sizes: list[int], *, balanced: bool = False) -> None:
+    kind = "p = max(m + 1, n // 5): short chains" if balanced else "p = m + 1: one long chain"
+    print(f"design (exact over Q), {kind}")
     print(f"{'n':>4} {'m':>3} {'p':>3} {'draws':>5} {'check [s]':>10} {'design [s]':>11} {'cert [s]':>9}  "
           f"{'mu':<14} {'digits(T)':>9}")
     for n in sizes:
-        sys_, draws = random_system(n, seed=n)
+        sys_, draws = random_system(n, seed=n, balanced=balanced)
         t0 = time.perf_counter()
         normal_form_applicable(sys_)
         t1 = time.perf_counter()
@@ -106,6 +112,8 @@ def main() -> None:
         bench_design([5])
         bench_sim(0.5)
     else:
+        bench_design(args.sizes, balanced=True)
+        print()
         bench_design(args.sizes)
         bench_sim(6.0)
 

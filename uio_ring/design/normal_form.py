@@ -626,7 +626,10 @@ def design_normal_form(
                             H[ro + a - 1, co + bb - 1] = ct(r, e, s)
                     co += sizes[si]
             ro += sizes[ri]
-        sol = qc.qsolve(H, w, f"H^({j + 1})")
+        # det H^(j) = 1 (Lemma 4.1(c)) and H^(j) is triangular up to permutations: substitution
+        sol = qc.solve_by_peeling(H, w)
+        if sol is None:  # pragma: no cover - general elimination as a fallback
+            sol = qc.qsolve(H, w, f"H^({j + 1})")
         ro = 0
         for ri, r in enumerate(later):
             for bb in range(1, sizes[ri] + 1):
