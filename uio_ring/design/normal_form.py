@@ -581,28 +581,32 @@ def design_normal_form(
     for mk in mu:
         b += mk
         ends.append(b - 1)
-    Esel = Q(nm, pm)
-    for k, e in enumerate(ends):
-        Esel[e, k] = 1
-    t_e = qc.qsolve(O_R, Esel, "O_R")
-    # powers Ǎ^i t_{e_k}, i = 0 … μ_1 − 1
+    # Steps 2–4 run in the coordinates z = O_R x, where Ǎ becomes the block companion matrix
+    # Ã = O_R Ǎ O_R⁻¹ (row (k, i) of O_R times Ǎ is row (k, i + 1); only the last row of each
+    # chain, č_k Ǎ^{μ_k} O_R⁻¹, is dense), t_{e_k} becomes the unit vector e_{e_k} (47) and č_r
+    # the row e_{b_r}ᵀ.  The numbers stay small; T = O_R⁻¹ T̃ is formed once at the end.
+    starts = [e - mk + 1 for e, mk in zip(ends, mu, strict=True)]
+    last_rows = qc.qvstack([O_rows[e] * A_c for e in ends], nm)  # č_k Ǎ^{μ_k}
+    L = qc.qsolve(O_R.transpose(), last_rows.transpose(), "O_R").transpose()  # (č_k Ǎ^{μ_k}) O_R⁻¹
+    A_z = Q(nm, nm)
+    for k in range(pm):
+        for i in range(starts[k], ends[k]):
+            A_z[i, i + 1] = 1
+        for c in range(nm):
+            A_z[ends[k], c] = L[k, c]
+    # powers Ã^i e_{e_k}, i = 0 … μ_1 − 1
     pw: list[list[Q]] = []
     for k in range(pm):
-        v = _col(t_e, k)
+        v = Q(nm, 1)
+        v[ends[k], 0] = 1
         lst = [v]
         for _ in range(max(mu) - 1):
-            v = A_c * v
+            v = A_z * v
             lst.append(v)
         pw.append(lst)
 
-    c_rows = [_row(C_c, r) for r in range(pm)]
-    ct_cache: dict[tuple[int, int, int], Any] = {}
-
-    def ct(r: int, k: int, s: int) -> Any:  # č_r Ǎ^k t_{e_s}
-        key = (r, k, s)
-        if key not in ct_cache:
-            ct_cache[key] = (c_rows[r] * pw[s][k])[0, 0]
-        return ct_cache[key]
+    def ct(r: int, k: int, s: int) -> Any:  # č_r Ǎ^k t_{e_s} = (Ã^k e_{e_s})[b_r]
+        return pw[s][k][starts[r], 0]
 
     # ---- Step 3: β (48)–(53)
     beta: dict[tuple[int, int, int], Fraction] = {}
@@ -649,12 +653,12 @@ def design_normal_form(
             c = ends[j] - i
             for row in range(nm):
                 T[row, c] = col[row, 0]
+    T = qc.qsolve(O_R, T, "O_R")  # back from z = O_R x
     T_inv = qc.qinverse(T, "T")
     A_bar = T_inv * (A * T)
     D_bar = T_inv * D
     C_bar = Gamma * C * T
     B_bar = T_inv * mod.E
-    starts = [e - mk + 1 for e, mk in zip(ends, mu, strict=True)]
     Pi_bar = _cols(A_bar, starts)
 
     # ---- gains
