@@ -86,3 +86,27 @@ def test_console_script_runs():
         [sys.executable, "-m", "uio_ring.cli", "smith", "[[d, 1], [0, d]]"], capture_output=True, text=True, check=False
     )
     assert proc.returncode == 0 and "d**2" in proc.stdout
+
+
+def test_auto_picks_the_normal_form_for_the_aircraft_and_says_why(tmp_path, capsys):
+    text = (EXAMPLES / "aircraft_normal_form.yaml").read_text().replace("method: normal-form", "method: auto")
+    text = text.split("simulate:")[0]
+    spec = tmp_path / "aircraft_auto.yaml"
+    spec.write_text(text)
+    assert main(["design", str(spec), "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "method normal-form, certificate ok" in out
+    skipped = [line for line in out.splitlines() if line.startswith("auto skipped zheng-bejarano")]
+    assert skipped and "Assumption 2" in skipped[0]
+    design = load_design(tmp_path / "aircraft_normal_form.json")  # named by the spec
+    assert design.method == "normal_form" and design.certificate().ok
+    assert design.mu == (4, 3)
+
+
+def test_auto_without_input_bounds_names_the_missing_option(tmp_path, capsys):
+    text = (EXAMPLES / "aircraft_normal_form.yaml").read_text().split("design:")[0]
+    spec = tmp_path / "aircraft_nobounds.yaml"
+    spec.write_text(text + "design:\n  method: auto\n")
+    assert main(["design", str(spec), "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "zheng-bejarano" in err and "needs design option(s) input_bounds" in err

@@ -165,11 +165,29 @@ def _run_simulate(args: argparse.Namespace) -> int:
 
 
 def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
-    from uio_ring.sim import simulate_observer
-
     sim = spec.simulate
     phi = sim.signal("phi")
     x_hat0 = None if sim.x_hat0 is None else [float(v) for v in sim.x_hat0]
+    if design.method == "normal_form":
+        import numpy as np
+
+        from uio_ring.sim.normal_form_observer import simulate_normal_form_observer
+
+        x0 = None if phi is None else np.asarray(phi(np.zeros(1)))[:, 0]  # constant initial state φ(0)
+        return simulate_normal_form_observer(
+            design,
+            spec.system,
+            t_final=float(sim.t_final),
+            dt=float(sim.dt),
+            w=sim.signal("w"),
+            u=sim.signal("u"),
+            x0=x0,
+            x_hat0=x_hat0,
+            method=sim.discretisation,
+            noise=sim.noise(),
+        )
+    from uio_ring.sim import simulate_observer
+
     return simulate_observer(
         design,
         spec.system,

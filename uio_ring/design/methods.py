@@ -40,6 +40,7 @@ class DesignMethod:
     check: Callable[[DelaySystem], Any]
     design: Callable[..., Any]
     options: tuple[str, ...] = ()
+    required: tuple[str, ...] = ()
     delay_free_only: bool = False
 
 
@@ -79,6 +80,9 @@ def design_with(name: str, sys: DelaySystem, options: Mapping[str, Any] | None =
     """Design with one named method (options checked against the method's list)."""
     method = get_method(name)
     opts = dict(options or {})
+    missing = [k for k in method.required if k not in opts]
+    if missing:
+        raise SpecError(f"method {name!r} needs the option(s) {', '.join(missing)}", path="design")
     unknown = sorted(set(opts) - set(method.options))
     if unknown:
         raise SpecError(
@@ -103,6 +107,10 @@ def design_auto(sys: DelaySystem, options: Mapping[str, Any] | None = None) -> A
         if method.delay_free_only and not sys.is_delay_free:
             skipped.append((method.name, "applies to delay-free systems only (this one has delays)"))
             continue
+        missing = [k for k in method.required if k not in opts]
+        if missing:
+            skipped.append((method.name, f"needs design option(s) {', '.join(missing)}"))
+            continue
         report = method.check(sys)
         last_report = report
         if not report.holds:
@@ -116,6 +124,7 @@ def design_auto(sys: DelaySystem, options: Mapping[str, Any] | None = None) -> A
 
 def _register_builtin() -> None:
     from uio_ring.analysis.assumptions import check_assumptions
+    from uio_ring.analysis.normal_form_applicability import normal_form_applicable
     from uio_ring.design.zheng_bejarano import design_zheng_bejarano
 
     register_method(
@@ -127,6 +136,26 @@ def _register_builtin() -> None:
             options=("poles",),
         )
     )
+    register_method(
+        DesignMethod(
+            name="normal-form",
+            summary="observer normal form with robust exact differentiators (paper 000); delay-free, "
+            "strongly observable systems, no matching condition needed",
+            check=normal_form_applicable,
+            design=_design_normal_form,
+            options=("input_bounds", "reconstruct_input", "gains", "lipschitz", "safety", "lipschitz_floor", "lambdas"),
+            required=("input_bounds",),
+            delay_free_only=True,
+        )
+    )
+
+
+def _design_normal_form(sys: DelaySystem, **options: Any) -> Any:
+    """``design_normal_form(sys, input_bounds, **rest)`` (it raises ``NotObservableError``)."""
+    from uio_ring.design.normal_form import design_normal_form
+
+    bounds = options.pop("input_bounds")
+    return design_normal_form(sys, bounds, **options)
 
 
 _register_builtin()

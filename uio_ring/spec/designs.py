@@ -30,8 +30,9 @@ FORMAT_VERSION = 1
 
 
 def _design_classes() -> dict[str, type]:
+    import uio_ring.design.normal_form  # noqa: F401  (registers the subclasses)
+    import uio_ring.design.zheng_bejarano  # noqa: F401
     from uio_ring.design.base import ObserverDesign
-    from uio_ring.design.zheng_bejarano import DelayUIODesign  # noqa: F401  (registers the subclass)
 
     out: dict[str, type] = {}
     stack = list(ObserverDesign.__subclasses__())
@@ -44,65 +45,85 @@ def _design_classes() -> dict[str, type]:
 
 
 def _encode(value: Any) -> Any:
+    """Tagged plain data: JSON scalars stay; everything else is ``{"$tag": …}``."""
     from uio_ring.ring.matrix import PolyMatrix
     from uio_ring.systems.delay_system import DelaySystem
 
-    if isinstance(value, PolyMatrix):
-        return {"shape": list(value.shape), "rows": [[str(p) for p in row] for row in value.tolist()]}
-    if isinstance(value, DelaySystem):
-        return {"system": value.to_dict(), "shapes": {k: list(M.shape) for k, M in value.matrices().items()}}
-    if isinstance(value, Fraction):
-        return str(value)
-    if isinstance(value, (tuple, list)):
-        return [_encode(v) for v in value]
-    if isinstance(value, (int, str, float)) or value is None:
+    if value is None or isinstance(value, (bool, int, str)):
         return value
+    if isinstance(value, PolyMatrix):
+        return {"$matrix": [[str(p) for p in row] for row in value.tolist()], "shape": list(value.shape)}
+    if isinstance(value, DelaySystem):
+        return {"$system": value.to_dict(), "shapes": {k: list(M.shape) for k, M in value.matrices().items()}}
+    if isinstance(value, Fraction):
+        return {"$q": str(value)}
+    if isinstance(value, (tuple, list)):
+        return {"$tuple": [_encode(v) for v in value]}
+    if isinstance(value, dict):
+        return {"$dict": [[_encode(k), _encode(v)] for k, v in value.items()]}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {
+            "$dataclass": type(value).__name__,
+            "fields": {f.name: _encode(getattr(value, f.name)) for f in dataclasses.fields(value) if f.compare},
+        }
     raise TypeError(f"cannot serialise {type(value).__name__}")  # pragma: no cover
 
 
 def design_to_data(design: Any) -> dict[str, Any]:
-    """Plain data holding every field of a design (exact values as strings)."""
-    fields = {}
-    for f in dataclasses.fields(design):
-        if not f.compare:
-            continue  # derived data (e.g. the analysis report) is recomputed, not stored
-        fields[f.name] = _encode(getattr(design, f.name))
+    """Plain data holding every compared field of a design (exact values as strings),
+    plus the design's own readable ``summary`` (``to_dict()``)."""
+    fields = {f.name: _encode(getattr(design, f.name)) for f in dataclasses.fields(design) if f.compare}
     return {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict()}
 
 
-def _decode(value: Any, annotation: str, where: str) -> Any:
+def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
     from uio_ring.ring.matrix import PolyMatrix
     from uio_ring.systems.delay_system import DelaySystem
 
+    if not isinstance(value, dict):
+        if isinstance(value, list):
+            raise SpecError("a list where a tagged value was expected", path=where)
+        return value
     try:
-        if "PolyMatrix" in annotation:
+        if "$matrix" in value:
             rows, cols = value["shape"]
-            return PolyMatrix(value["rows"], shape=(rows, cols)) if rows and cols else PolyMatrix.zeros(rows, cols)
-        if "DelaySystem" in annotation:
-            data = dict(value["system"])
+            return PolyMatrix(value["$matrix"], shape=(rows, cols)) if rows and cols else PolyMatrix.zeros(rows, cols)
+        if "$system" in value:
+            data = dict(value["$system"])
             for k, (r, c) in value["shapes"].items():
                 if r == 0 or c == 0:
                     data[k] = PolyMatrix.zeros(r, c)
             return DelaySystem.from_dict(data)
-        if "Fraction" in annotation and "tuple" in annotation:
-            return tuple(Fraction(v) for v in value)
-        if annotation in ("int",):
-            return int(value)
-        if annotation in ("str",):
-            return str(value)
-        return value
-    except (KeyError, TypeError, ValueError) as exc:
+        if "$q" in value:
+            return Fraction(value["$q"])
+        if "$tuple" in value:
+            return tuple(_decode(v, f"{where}[{i}]", helpers) for i, v in enumerate(value["$tuple"]))
+        if "$dict" in value:
+            return {_decode(k, where, helpers): _decode(v, where, helpers) for k, v in value["$dict"]}
+        if "$dataclass" in value:
+            cls = helpers.get(value["$dataclass"])
+            if cls is None:
+                raise SpecError(f"unknown record type {value['$dataclass']!r}", path=where)
+            return cls(**{k: _decode(v, f"{where}.{k}", helpers) for k, v in value["fields"].items()})
+    except SpecError:
+        raise
+    except (KeyError, TypeError, ValueError, ZeroDivisionError) as exc:
         raise SpecError(f"malformed value ({exc})", path=where) from None
+    raise SpecError(f"unknown tag in {sorted(value)}", path=where)
 
 
 def design_from_data(data: Any) -> Any:
     """Rebuild a design from :func:`design_to_data` output."""
+    import sys
+
     if not isinstance(data, dict) or "uio_ring_design" not in data:
         raise SpecError("not a uio_ring design file (no 'uio_ring_design' key)")
     classes = _design_classes()
     cls = classes.get(data.get("method", ""))
     if cls is None:
         raise SpecError(f"unknown design method {data.get('method')!r}; known: {', '.join(classes)}", path="method")
+    module = vars(sys.modules[cls.__module__])
+    helpers = {name: obj for name, obj in module.items() if isinstance(obj, type) and dataclasses.is_dataclass(obj)}
     fields = data.get("fields") or {}
     kwargs = {}
     for f in dataclasses.fields(cls):
@@ -110,7 +131,7 @@ def design_from_data(data: Any) -> Any:
             continue
         if f.name not in fields:
             raise SpecError(f"the design file has no field {f.name!r}", path="fields")
-        kwargs[f.name] = _decode(fields[f.name], str(f.type), f"fields.{f.name}")
+        kwargs[f.name] = _decode(fields[f.name], f"fields.{f.name}", helpers)
     return cls(**kwargs)
 
 

@@ -83,6 +83,7 @@ class SimulateSpec:
     noise_bound: tuple[Fraction, ...] | None = None
     noise_seed: int = 0
     settle: Fraction | None = None
+    discretisation: str = "implicit"
 
     def signal(self, which: str) -> Any:
         """A function ``t ↦ array (k, len(t))`` for ``w``, ``u`` or ``phi`` (None if absent)."""
@@ -493,7 +494,49 @@ def _read_design(data: dict[str, Any]) -> DesignSpec:
             except (DomainError, ParseError) as exc:
                 raise SpecError(f"{v!r} is not an exact rational ({exc})", path=f"design.poles[{i}]") from None
         options["poles"] = tuple(poles)
+    for key in ("lipschitz", "lambdas"):
+        if data.get(key) is not None:
+            options[key] = tuple(_exact(v, f"design.{key}[{i}]") for i, v in enumerate(data[key]))
+    if data.get("input_bounds") is not None:
+        b = data["input_bounds"]
+        options["input_bounds"] = (
+            tuple(_exact(v, f"design.input_bounds[{i}]") for i, v in enumerate(b))
+            if isinstance(b, list)
+            else _exact(b, "design.input_bounds")
+        )
+    if data.get("gains") is not None:
+        options["gains"] = tuple(
+            tuple(_exact(v, f"design.gains[{i}][{j}]") for j, v in enumerate(row)) for i, row in enumerate(data["gains"])
+        )
+    for key in ("safety", "lipschitz_floor"):
+        if data.get(key) is not None:
+            options[key] = _exact(data[key], f"design.{key}")
+    if data.get("reconstruct_input") is not None:
+        options["reconstruct_input"] = bool(data["reconstruct_input"])
+    if method != "auto":
+        allowed = set(METHODS[method].options)
+        extra = sorted(set(options) - allowed)
+        if extra:
+            raise SpecError(
+                f"option(s) {', '.join(extra)} do not apply to method {method!r} "
+                f"(its options: {', '.join(METHODS[method].options)})",
+                path=f"design.{extra[0]}",
+            )
+        missing = [k for k in METHODS[method].required if k not in options]
+        if missing:
+            raise SpecError(f"method {method!r} needs {', '.join(missing)}", path=f"design.{missing[0]}")
     return DesignSpec(method=method, options=options)
+
+
+def _exact(value: Any, path: str) -> Fraction:
+    from uio_ring.ring.poly import exact_fraction
+
+    if isinstance(value, float) and not math.isfinite(value):
+        raise SpecError(f"{value} is not a finite number", path=path)
+    try:
+        return exact_fraction(value, path)
+    except (DomainError, ParseError) as exc:
+        raise SpecError(f"{value!r} is not an exact rational ({exc})", path=path) from None
 
 
 def _texts(value: Any, count: int, path: str, what: str, *, allow_broadcast: bool = False) -> tuple[str, ...]:
@@ -551,7 +594,7 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
         from uio_ring.ring.poly import exact_fraction
 
         vals = data["x_hat0"]
-        if len(vals) != system.n_x:
+        if len(vals) not in (system.n_x, system.n_x + system.n_w):
             raise SpecError(f"{len(vals)} values given for {system.n_x} states", path="simulate.x_hat0")
         x_hat0 = tuple(exact_fraction(v, f"simulate.x_hat0[{i}]") for i, v in enumerate(vals))
     noise_bound = None
@@ -578,7 +621,9 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
         settle = exact_fraction(data["settle"], "simulate.settle")
         if not 0 <= settle < t_final:
             raise SpecError(f"settle = {settle} must lie in [0, t_final)", path="simulate.settle")
-    return SimulateSpec(t_final, dt, h, w, u, phi, x_hat0, noise_bound, seed, settle)
+    return SimulateSpec(
+        t_final, dt, h, w, u, phi, x_hat0, noise_bound, seed, settle, str(data.get("discretisation", "implicit"))
+    )
 
 
 def _read_output(data: dict[str, Any]) -> OutputSpec:
