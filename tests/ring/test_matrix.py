@@ -369,3 +369,11 @@ def test_poly_comparisons_with_int():
     assert P("1") == 1 and 1 == P("1")
     assert P("0") == 0
     assert P("d") != 0 and P("d") != 1
+
+
+def test_indices_from_numpy_and_sympy():
+    import numpy as np
+    import sympy
+
+    M = PolyMatrix("[[1, d], [d**2, 0]]")
+    assert M[np.int64(1), np.int64(0)] == M[1, 0] == M[sympy.Integer(1), sympy.Integer(0)]

@@ -19,6 +19,7 @@ PolyMatrix([[1, 2], [0, 0]])
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Iterable, Sequence
 from fractions import Fraction
 from typing import Any
@@ -305,7 +306,7 @@ class PolyMatrix:
     def __getitem__(self, key: Any) -> Any:
         if not isinstance(key, tuple) or len(key) != 2:
             raise DimensionError("index a PolyMatrix with two indices: M[i, j], M[i, :], M[:, a:b]")
-        ki, kj = key
+        ki, kj = _as_index(key[0]), _as_index(key[1])
         if isinstance(ki, int) and isinstance(kj, int):
             i, j = _index(ki, self._m, "row"), _index(kj, self._n, "column")
             return Poly._wrap(self._r[i][j], self.var)
@@ -448,6 +449,13 @@ def _count(n: Any, name: str) -> int:
     if not isinstance(n, int) or isinstance(n, bool) or n < 0:
         raise DimensionError(f"{name} must be a non-negative int, got {n!r}")
     return n
+
+
+def _as_index(k: Any) -> Any:
+    """Integers of other libraries (numpy, sympy) through ``__index__``; slices stay."""
+    if isinstance(k, (int, slice)) or isinstance(k, bool) or not hasattr(k, "__index__"):
+        return k
+    return operator.index(k)
 
 
 def _index(k: int, size: int, what: str) -> int:
