@@ -30,6 +30,7 @@ from uio_ring.ring.errors import DomainError
 from uio_ring.ring.inverse import is_left_unimodular, is_unimodular
 from uio_ring.ring.kernel import left_kernel
 from uio_ring.ring.matrix import Poly, PolyMatrix
+from uio_ring.verify.checks import residual_check
 
 __all__ = ["delay_uio_certificate", "charpoly"]
 
@@ -54,23 +55,7 @@ def charpoly(M: PolyMatrix, var: str = "s") -> Poly:
     return PolyMatrix(rows, var=var).det()
 
 
-def _run(name: str, statement: str, fn: Any) -> Check:
-    """Evaluate one check.
-
-    ``fn()`` returns a dict of residual matrices (the check holds iff all are
-    zero), or a string describing a failure, or ``None`` for success.  An
-    exception while evaluating (e.g. shapes that do not fit) is a failed check.
-    """
-    try:
-        out = fn()
-    except Exception as exc:  # noqa: BLE001 - any failure to evaluate is a failed check
-        return Check(name, False, residual=f"{type(exc).__name__}: {exc}", statement=statement)
-    if out is None:
-        return Check(name, True, statement=statement)
-    if isinstance(out, str):
-        return Check(name, False, residual=out, statement=statement)
-    bad = {k: v for k, v in out.items() if not v.is_zero()}
-    return Check(name, not bad, residual=bad or None, statement=statement)
+_run = residual_check
 
 
 def delay_uio_certificate(design: Any) -> Certificate:

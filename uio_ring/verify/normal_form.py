@@ -26,8 +26,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from uio_ring.ring.certificate import Certificate, Check
+from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.verify.checks import residual_check
 
 __all__ = ["normal_form_certificate"]
 
@@ -35,18 +36,7 @@ _Z = PolyMatrix.zeros
 _I = PolyMatrix.identity
 
 
-def _run(name: str, statement: str, fn: Any) -> Check:
-    """``fn()`` returns residual matrices (dict; all zero ⇒ ok), a failure string, or None."""
-    try:
-        out = fn()
-    except Exception as exc:  # noqa: BLE001 - a check that cannot be evaluated fails
-        return Check(name, False, residual=f"{type(exc).__name__}: {exc}", statement=statement)
-    if out is None:
-        return Check(name, True, statement=statement)
-    if isinstance(out, str):
-        return Check(name, False, residual=out, statement=statement)
-    bad = {k: v for k, v in out.items() if not v.is_zero()}
-    return Check(name, not bad, residual=bad or None, statement=statement)
+_run = residual_check
 
 
 def _entries(M: PolyMatrix) -> list[list[Any]]:
