@@ -55,7 +55,6 @@ def charpoly(M: PolyMatrix, var: str = "s") -> Poly:
     return PolyMatrix(rows, var=var).det()
 
 
-_run = residual_check
 
 
 def delay_uio_certificate(design: Any) -> Certificate:
@@ -85,7 +84,7 @@ def delay_uio_certificate(design: Any) -> Certificate:
     checks: list[Check] = []
 
     def add(name: str, statement: str, fn: Any) -> None:
-        checks.append(_run(name, statement, fn))
+        checks.append(residual_check(name, statement, fn))
 
     M = PolyMatrix.block([[C @ B, D], [D, _Z(p, m)]])
 

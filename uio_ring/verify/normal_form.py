@@ -36,7 +36,6 @@ _Z = PolyMatrix.zeros
 _I = PolyMatrix.identity
 
 
-_run = residual_check
 
 
 def _entries(M: PolyMatrix) -> list[list[Any]]:
@@ -201,28 +200,28 @@ def normal_form_certificate(design: Any) -> Certificate:
     A, B, C, E = d.model.A, d.model.B, d.model.C, d.model.E
     n = d.n
     checks = [
-        _run("T nonsingular", "det T ≠ 0 (Lemma 4.1(b))", lambda: None if d.T.rank() == n else "T is singular"),
-        _run("T T⁻¹ = I", "T_inverse is the inverse of T", lambda: {"T T⁻¹ − I": d.T @ d.T_inverse - _I(n)}),
-        _run("Γ nonsingular", "det Γ ≠ 0", lambda: None if d.Gamma.rank() == d.Gamma.rows else "Γ is singular"),
-        _run("(21a) T⁻¹ A T = Ā", "T Ā = A T", lambda: {"T Ā − A T": d.T @ d.A_bar - A @ d.T}),
-        _run("(21b) T⁻¹ D = D̄", "T D̄ = B (the unknown-input matrix, paper's D)", lambda: {"T D̄ − B": d.T @ d.D_bar - B}),
-        _run("(21c) Γ C T = C̄", "Γ C T = C̄", lambda: {"Γ C T − C̄": d.Gamma @ C @ d.T - d.C_bar}),
-        _run("B̄ = T⁻¹ E", "T B̄ = E (known inputs, paper's B)", lambda: {"T B̄ − E": d.T @ d.B_bar - E}),
-        _run("(12) μ", "μ_1 ≥ … ≥ μ_p ≥ 1, Σ μ = n", lambda: _mu(d)),
-        _run("(11b) structure of Ā", "shift chains; α in first-of-block columns; β at rows e_r, r > j, l ≥ μ_r", lambda: _structure_11b(d)),
-        _run("(13c) Π̄", "Π̄ = first-of-block columns of Ā",
+        residual_check("T nonsingular", "det T ≠ 0 (Lemma 4.1(b))", lambda: None if d.T.rank() == n else "T is singular"),
+        residual_check("T T⁻¹ = I", "T_inverse is the inverse of T", lambda: {"T T⁻¹ − I": d.T @ d.T_inverse - _I(n)}),
+        residual_check("Γ nonsingular", "det Γ ≠ 0", lambda: None if d.Gamma.rank() == d.Gamma.rows else "Γ is singular"),
+        residual_check("(21a) T⁻¹ A T = Ā", "T Ā = A T", lambda: {"T Ā − A T": d.T @ d.A_bar - A @ d.T}),
+        residual_check("(21b) T⁻¹ D = D̄", "T D̄ = B (the unknown-input matrix, paper's D)", lambda: {"T D̄ − B": d.T @ d.D_bar - B}),
+        residual_check("(21c) Γ C T = C̄", "Γ C T = C̄", lambda: {"Γ C T − C̄": d.Gamma @ C @ d.T - d.C_bar}),
+        residual_check("B̄ = T⁻¹ E", "T B̄ = E (known inputs, paper's B)", lambda: {"T B̄ − E": d.T @ d.B_bar - E}),
+        residual_check("(12) μ", "μ_1 ≥ … ≥ μ_p ≥ 1, Σ μ = n", lambda: _mu(d)),
+        residual_check("(11b) structure of Ā", "shift chains; α in first-of-block columns; β at rows e_r, r > j, l ≥ μ_r", lambda: _structure_11b(d)),
+        residual_check("(13c) Π̄", "Π̄ = first-of-block columns of Ā",
              lambda: {"Π̄ − Ā[:, b_j+1]": d.Pi_bar - PolyMatrix.hstack(*[d.A_bar[0:n, s : s + 1] for s in d.block_starts])}),
-        _run("Remark 3.2: Ā − Π̄ C̄ nilpotent", "(Ā − Π̄ C̄)ⁿ = 0", lambda: {"(Ā − Π̄C̄)ⁿ": (d.A_bar - d.Pi_bar @ d.C_bar) ** n}),
-        _run("(11c) D̄", "D̄ is zero outside the rows e_1, …, e_p", lambda: _d_bar_rows(d)),
-        _run("(11d) C̄", "C̄ = [e_{b_j+1}ᵀ]", lambda: _c_bar(d)),
-        _run("(22) Ǎ = A + Ξ C", "Ǎ − A − Ξ C = 0", lambda: {"Ǎ − A − ΞC": d.A_check - A - d.Xi @ C}),
-        _run("(24) Č = Γ C", "Č − Γ C = 0", lambda: {"Č − ΓC": d.C_check - d.Gamma @ C}),
-        _run("(27) relative degrees", "č_j Ǎ^i D = 0 for i ≤ μ_j − 2", lambda: _eq27(d)),
-        _run("(25) O_R", "O_R = [č_j Ǎ^i], nonsingular", lambda: _O_R(d)),
-        _run("plant ↔ normal form", "ȳ = C̄ x̄, x̄' = Ā x̄ + D̄ w̃ + B̄ ū along every plant trajectory", lambda: _plant_model(d)),
-        _run("(18) κ_{j,0} > Σ L_i |d̄_{e_j,i}|", "the necessary gain condition, exactly", lambda: _cond18(d)),
+        residual_check("Remark 3.2: Ā − Π̄ C̄ nilpotent", "(Ā − Π̄ C̄)ⁿ = 0", lambda: {"(Ā − Π̄C̄)ⁿ": (d.A_bar - d.Pi_bar @ d.C_bar) ** n}),
+        residual_check("(11c) D̄", "D̄ is zero outside the rows e_1, …, e_p", lambda: _d_bar_rows(d)),
+        residual_check("(11d) C̄", "C̄ = [e_{b_j+1}ᵀ]", lambda: _c_bar(d)),
+        residual_check("(22) Ǎ = A + Ξ C", "Ǎ − A − Ξ C = 0", lambda: {"Ǎ − A − ΞC": d.A_check - A - d.Xi @ C}),
+        residual_check("(24) Č = Γ C", "Č − Γ C = 0", lambda: {"Č − ΓC": d.C_check - d.Gamma @ C}),
+        residual_check("(27) relative degrees", "č_j Ǎ^i D = 0 for i ≤ μ_j − 2", lambda: _eq27(d)),
+        residual_check("(25) O_R", "O_R = [č_j Ǎ^i], nonsingular", lambda: _O_R(d)),
+        residual_check("plant ↔ normal form", "ȳ = C̄ x̄, x̄' = Ā x̄ + D̄ w̃ + B̄ ū along every plant trajectory", lambda: _plant_model(d)),
+        residual_check("(18) κ_{j,0} > Σ L_i |d̄_{e_j,i}|", "the necessary gain condition, exactly", lambda: _cond18(d)),
     ]
     ft = _feedthrough(d)
     if ft is not None:
-        checks.append(_run("(A1) U D V", "U D V = [[I_{m_F}, 0], [0, 0]]", lambda: ft))
+        checks.append(residual_check("(A1) U D V", "U D V = [[I_{m_F}, 0], [0, 0]]", lambda: ft))
     return Certificate("observer normal form (paper 000)", checks)
