@@ -215,7 +215,7 @@ class NormalFormDesign(ObserverDesign):
     def __repr__(self) -> str:
         return (
             f"NormalFormDesign(n={self.n}, mu={self.mu}, reconstruct_input={self.reconstruct_input}, "
-            f"m_F={self.m_F}, kappa={[[float(k) for k in ks] for ks in self.kappa]})"
+            f"m_F={self.m_F}, kappa={[[str(k) for k in ks] for ks in self.kappa]})"
         )
 
     def __str__(self) -> str:
