@@ -39,7 +39,7 @@ import numpy as np
 
 from uio_ring import DelaySystem, design_zheng_bejarano
 from uio_ring.sim import DelayObserverSimulator, simulate
-from uio_ring.sim._convert import coefficient_arrays, poly_matmul
+from uio_ring.numeric.convert import coefficient_arrays, poly_matmul
 from uio_ring.sim.plant import delayed_sum
 
 PAPER = dict(

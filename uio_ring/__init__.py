@@ -52,7 +52,9 @@ _LAZY: dict[str, str] = {
     "SpecError": "uio_ring.errors",
     # numerics (issue 4): float64 simulation
     "simulate": "uio_ring.sim.plant",
-    "simulate_observer": "uio_ring.sim.observer",
+    "simulate_observer": "uio_ring.sim.engine",
+    "SimulationResult": "uio_ring.sim.result",
+    "ObserverModel": "uio_ring.numeric.model",
     # spec files and design files (issue 5)
     "load_spec": "uio_ring.spec.loader",
     "load_design": "uio_ring.spec.designs",
@@ -91,8 +93,6 @@ _LAZY: dict[str, str] = {
     "NormalFormDesign": "uio_ring.design.normal_form",
     "levant_gains": "uio_ring.design.red_gains",
     "normal_form_certificate": "uio_ring.verify.normal_form",
-    "NormalFormObserver": "uio_ring.sim.normal_form_observer",
-    "simulate_normal_form_observer": "uio_ring.sim.normal_form_observer",
 }
 
 __all__ = sorted(_LAZY) + ["__version__"]

@@ -29,6 +29,8 @@ __all__ = [
     "MissingDependencyError",
     "NotObservableError",
     "SpecError",
+    "SimulationError",
+    "NotSupportedError",
     "require",
 ]
 
@@ -51,3 +53,12 @@ class SpecError(UioRingError, ValueError):
         super().__init__(f"{path}: {message}" if path else message)
         self.path = path
         self.detail = message
+
+
+class SimulationError(UioRingError, ValueError):
+    """Simulation arguments that cannot be used (a step that is not ``h/N``, a history of
+    the wrong shape, NaN in a signal, mismatched delays); the message names the argument."""
+
+
+class NotSupportedError(UioRingError, NotImplementedError):
+    """A case the implemented theory does not cover; the message says which and why."""

@@ -71,13 +71,13 @@ def paper_design(paper_system):
 
 @pytest.fixture(scope="session")
 def printed_design(paper_system):
-    """The paper's own L0, H, Λ, T, T_L⁻¹ (lag 4) with J corrected as in shared/ERRATA.md.
+    """The paper's own L0, H, Λ, T, T_L⁻¹ (lag 4) with J corrected (the printed J fails Theorem 4's identity).
 
     Test data only: J(5,3) = 1 − 2δ and J(6,3) = 0 instead of the printed −1 and 1.
     """
     from uio_ring import PolyMatrix as P
 
-    return SimpleNamespace(
+    d = SimpleNamespace(
         system=paper_system,
         L0=P("[[-85,0,1,0,0,0],[0,-85,0,1,0,0],[-2000,0,0,0,1,0],[0,-2000,0,0,0,1],"
              "[-12500,0,0,0,0,0],[0,-12500,0,0,0,0]]"),
@@ -94,3 +94,11 @@ def printed_design(paper_system):
         n_z=6,
         lag=4,
     )
+    from uio_ring.design.delay_uio_design import guard_blocks_for
+    from uio_ring.numeric.build import model_from_exact
+
+    d.numeric = lambda h=None: model_from_exact(
+        F=d.L0, G_y=d.J @ d.Lam, D_y=d.H @ d.Lam, X=d.T_left_inverse, initial=d.T.eval(1), h=h,
+        guard_blocks=guard_blocks_for(paper_system), z_of_x=d.T, method="printed",
+    )
+    return d

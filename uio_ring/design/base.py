@@ -5,6 +5,7 @@ A design is a frozen dataclass of named exact matrices.  Every design
 * keeps the system it was made for in ``system``;
 * proves itself with ``certificate()`` (a :class:`~uio_ring.verify.Certificate`
   of exact identities, built in :mod:`uio_ring.verify`);
+* gives its float observer model with ``numeric()`` (what the simulation engine steps);
 * converts to plain data with ``to_dict()`` and renders with ``to_latex()`` /
   ``_repr_latex_`` (δ printed);
 * has a short ``repr`` (the matrices can be large).
@@ -36,12 +37,17 @@ def matrix_to_data(M: PolyMatrix) -> list[list[str]]:
 class ObserverDesign(ABC):
     """Base class of the design objects returned by ``design_*`` functions."""
 
-    #: Short name of the method, e.g. ``"zheng_bejarano"``.
+    #: The method's registry name, e.g. ``"zheng-bejarano"`` (one spelling everywhere).
     method: ClassVar[str] = ""
 
     @abstractmethod
     def certificate(self) -> Certificate:
         """The exact identities the method promises, each with its verdict."""
+
+    @abstractmethod
+    def numeric(self, *, h: Any = None) -> Any:
+        """The float :class:`~uio_ring.numeric.model.ObserverModel` that the engine steps
+        (``h``: the basic delay, when the design's system has none)."""
 
     @abstractmethod
     def to_dict(self) -> dict[str, Any]:

@@ -28,7 +28,24 @@ from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["DelayUIODesign"]
+__all__ = ["DelayUIODesign", "guard_blocks_for"]
+
+
+def guard_blocks_for(sys: DelaySystem) -> int:
+    """Blocks ``[0, M h]`` in which y, y' or y'' may jump at the multiples of h.
+
+    x' jumps at 0 (history vs. dynamics), x^{(q)} at ``i h`` for ``i ≤ (q − 1) deg A``
+    (plus the input degrees when w, u start at 0), and y = C(δ)x + D(δ)w + F(δ)u shifts
+    them by up to ``max(deg C, deg D, deg F)``.  Beyond, y is C³ across block ends, where
+    a centred cubic stencil keeps the local error O(dt⁵).
+
+    >>> from uio_ring import DelaySystem
+    >>> guard_blocks_for(DelaySystem("[[d]]", "[[1]]", "[[1]]", None))
+    4
+    """
+    deg = {k: max(M.degree(), 0) for k, M in sys.matrices().items()}
+    return (2 * deg.get("A", 0) + max(deg.get("B", 0), deg.get("E", 0))
+            + max(deg.get("C", 0), deg.get("D", 0), deg.get("F", 0)) + 2)
 
 
 # ----------------------------------------------------------------------------------------
@@ -53,7 +70,7 @@ class DelayUIODesign(ObserverDesign):
     channels.  ``choice`` says how U, Λ and the left inverses were chosen.
     """
 
-    method: ClassVar[str] = "zheng_bejarano"
+    method: ClassVar[str] = "zheng-bejarano"
 
     system: DelaySystem
     U: PolyMatrix
@@ -116,12 +133,25 @@ class DelayUIODesign(ObserverDesign):
 
         return delay_uio_certificate(self)
 
-    def simulator(self, *, h: Any, dt: Any, x_hat0: Any = None) -> Any:
-        """The numeric observer on the grid ``dt = h/N`` (``.step(y_k)``, ``.run(y)``): see
-        :class:`uio_ring.sim.DelayObserverSimulator`."""
-        from uio_ring.sim import DelayObserverSimulator
+    def numeric(self, *, h: Any = None) -> Any:
+        """The float observer model (one :class:`~uio_ring.numeric.model.ObserverModel`):
+        ``F = L0``, ``G_y = JΛ``, ``G_u = J_u``, ``D_y = HΛ``, ``D_u = H_u``, ``X = T_L⁻¹``.
 
-        return DelayObserverSimulator(self, h=h, dt=dt, x_hat0=x_hat0)
+        ``h`` is needed when the system has none (and the observer has delayed taps).
+
+        >>> from uio_ring import DelaySystem, design_zheng_bejarano
+        >>> des = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None))
+        >>> des.numeric()
+        ObserverModel(zheng-bejarano: n_z=2, n_y=2, n_u=0, n_x=2, n_w=0, lag=0)
+        """
+        from uio_ring.numeric.build import model_from_exact
+
+        sys = self.system
+        return model_from_exact(
+            F=self.L0, G_y=self.J @ self.Lam, G_u=self.J_u, D_y=self.H @ self.Lam, D_u=self.H_u,
+            X=self.T_left_inverse, initial=self.T.eval(1), h=sys.h if h is None else h,
+            guard_blocks=guard_blocks_for(sys), z_of_x=self.T, method=self.method,
+        )
 
     # -- display and data -----------------------------------------------------------
     def __repr__(self) -> str:

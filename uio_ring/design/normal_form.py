@@ -127,7 +127,7 @@ class NormalFormDesign(ObserverDesign):
         Step 1 trace.
     """
 
-    method: ClassVar[str] = "normal_form"
+    method: ClassVar[str] = "normal-form"
 
     system: DelaySystem
     model: DelaySystem
@@ -205,11 +205,35 @@ class NormalFormDesign(ObserverDesign):
 
         return normal_form_certificate(self)
 
-    def simulator(self, dt: Any, *, method: str = "implicit", x_hat0: Any = None) -> Any:
-        """A numeric observer (:class:`uio_ring.sim.NormalFormObserver`) with step ``dt``."""
-        from uio_ring.sim.normal_form_observer import NormalFormObserver
+    def numeric(self, *, h: Any = None) -> Any:
+        """The float observer model: ``ξ = x̂̄``, ``F = Ā − Π̄ C̄``, the measured signals
+        ``s = [ȳ; ỹ_0] = S_map [y; u]`` injected through ``S = [Π̄, B̄_ỹ0]`` (``G_y``, ``G_u``,
+        the latter with ``B̄_u``), one Levant differentiator per chain on ``σ = ȳ − x̂̄[b_j]``,
+        ``X`` = state map, ``W`` = input map; every product is formed exactly first.  The
+        model is delay-free (``h`` is accepted for the common signature and not used); the
+        differentiators are discretised ``"implicit"`` unless the stepper says otherwise.
 
-        return NormalFormObserver(self, dt, method=method, x_hat0=x_hat0)
+        >>> from uio_ring import DelaySystem, design_normal_form
+        >>> design_normal_form(DelaySystem("[[0, 1], [-2, -3]]", "[[0], [1]]", "[[1, 0]]", None), [1]).numeric()
+        ObserverModel(normal-form: n_z=2, n_y=1, n_u=0, n_x=2, n_w=0, lag=0, injection=implicit)
+        """
+        from uio_ring.numeric.build import held_input_from_exact, injection_from_exact, model_from_exact
+
+        sysm, n_u, n_y, p = self.system, self.system.n_u, self.system.n_y, len(self.mu)
+        B_u, B_y0 = self.B_bar[:, :n_u], self.B_bar[:, n_u:]
+        S_map = PolyMatrix.vstack(self.output_map, self.input_map[n_u:, :])
+        S = PolyMatrix.hstack(self.Pi_bar, B_y0)
+        H_s = PolyMatrix.vstack(self.C_bar, self.input_map[n_u:, :n_y] @ sysm.C @ self.state_map)
+        injection = injection_from_exact(
+            starts=self.block_starts, lengths=self.mu, gains=self.kappa,
+            sigma_y=self.output_map[:, :n_y], sigma_u=self.output_map[:, n_y:],
+        )
+        held = held_input_from_exact(A=self.A_bar + B_y0 @ H_s[p:, :], B=B_u, M=S @ H_s) if n_u else None
+        return model_from_exact(
+            F=self.A_bar - self.Pi_bar @ self.C_bar, G_y=S @ S_map[:, :n_y], G_u=S @ S_map[:, n_y:] + B_u,
+            X=self.state_map, W=self.w_map, initial=self.T_inverse, injection=injection,
+            held_input=held, interpolation="linear", method=self.method,
+        )
 
     # -- display and data ------------------------------------------------------------------
     def __repr__(self) -> str:

@@ -2,7 +2,7 @@
 
 Over one block ``[k h, (k+1) h]`` every delayed value is already known, so the
 block is the linear recursion ``x_{r+1} = Φ x_r + g_r`` with a known forcing
-(see :mod:`uio_ring.sim._expint`).  The forcing is interpolated with four-point
+(see :mod:`uio_ring.numeric.expint`).  The forcing is interpolated with four-point
 Lagrange stencils that stay inside the block (nodes ``r−1 … r+2``, shifted at the
 block ends), so the derivative jumps at the multiples of ``h`` — all on the grid —
 never sit inside a stencil and the global order is 4 (``min(4, N+1)`` points when
@@ -20,14 +20,14 @@ Two evaluations of the same map:
 * *dense*: the whole block is one matrix ``M`` applied to the window
   ``x[(k−K)N … kN]`` (K = deg A) — one ``matvec`` per block, O(N n²) per step;
 * *chunked* (large N): per block, delayed forcing, quadrature, and a
-  :class:`~uio_ring.sim._expint.LinearScan`.
+  :class:`~uio_ring.numeric.expint.LinearScan`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from uio_ring.sim._expint import LinearScan, phi_functions, stencil_weights
+from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
 from uio_ring.sim._progress import Progress
 
 __all__ = ["BlockIntegrator", "block_integrator", "block_stencils"]
@@ -197,6 +197,12 @@ class BlockIntegrator:
         self.B = B
         self.SwT = out[:, :dw].T.copy()
         self.SfT = out[:, dw:].T.copy()
+
+    def step_block(self, window: np.ndarray, forcing: np.ndarray) -> np.ndarray:
+        """One block from its window ``x((k−K) h) … x(k h)`` (``(K N + 1, n)``) and the input
+        forcing on its ``N + 1`` points (``(N + 1, n)``; a held input: the same value at both
+        ends): the ``N`` new samples, shape ``(N, n)``.  Needs the ``"dense"`` method."""
+        return (window.reshape(-1) @ self.MT + forcing.reshape(-1) @ self.QinT).reshape(self.N, self.n)
 
     def quadrature(self, F: np.ndarray) -> np.ndarray:
         """Forcing samples on blocks ``(B, N+1, n)`` → step forcings ``(B, N, n)``."""

@@ -7,13 +7,14 @@ from typing import Any
 
 import numpy as np
 
+from uio_ring.numeric.taps import delayed_sum
 from uio_ring.sim._blocks import block_integrator
-from uio_ring.sim._convert import coefficient_arrays
-from uio_ring.sim._grid import as_float, step_count, steps_per_delay
+from uio_ring.numeric.convert import coefficient_arrays
+from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
 from uio_ring.sim._progress import Progress, want_progress
-from uio_ring.sim._threads import blas_single_thread
+from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim.errors import SimulationError
-from uio_ring.sim.history import sample_history
+from uio_ring.numeric.history import sample_history
 from uio_ring.sim.result import SimulationResult
 from uio_ring.sim.signals import as_noise, input_samples
 
@@ -84,23 +85,6 @@ def resolve_h(h: Any, sys_h: Any, *, what: str = "the system") -> float:
     return hv
 
 
-def delayed_sum(M: np.ndarray, S: np.ndarray, j0: int, j1: int, N: int, offset: int) -> np.ndarray:
-    """``Σ_i M_i s(t_j − i h)`` for grid indices ``j0 … j1``, as rows ``(j1 − j0 + 1, rows)``.
-
-    ``S`` holds samples as rows, ``S[offset + j] = s(t_j)``.  Computed as ``M_i @ S.T``
-    (one BLAS product per delay; ~50× faster than ``S @ M_i.T`` for tall S) and
-    returned as a transposed view.
-    Precondition: every index ``offset + j − i N`` is inside S (not checked).
-    """
-    L = j1 - j0 + 1
-    out = np.zeros((M.shape[1], L))
-    for i in range(M.shape[0]):
-        if np.any(M[i]):
-            a = offset + j0 - i * N
-            out += M[i] @ S[a : a + L].T
-    return out.T
-
-
 def plant_run(
     sys: Any,
     *,
@@ -109,16 +93,16 @@ def plant_run(
     dt: Any,
     w: Any = None,
     u: Any = None,
-    phi: Any = None,
+    x0: Any = None,
     noise: Any = None,
     progress: bool | None = None,
 ) -> SimulationResult:
     """:func:`simulate` without its docstring (shared with :func:`simulate_observer`)."""
     with blas_single_thread():
-        return _plant_run(sys, h=h, t_final=t_final, dt=dt, w=w, u=u, phi=phi, noise=noise, progress=progress)
+        return _plant_run(sys, h=h, t_final=t_final, dt=dt, w=w, u=u, x0=x0, noise=noise, progress=progress)
 
 
-def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, phi: Any, noise: Any,
+def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, x0: Any, noise: Any,
                progress: bool | None) -> SimulationResult:
     S = SystemArrays.from_system(sys)
     hv = resolve_h(h, getattr(sys, "h", None), what="sys")
@@ -134,7 +118,7 @@ def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, phi: 
     Kx = S.state_delay
     Kh = Kx  # x history length in blocks
     Kin = S.input_delay
-    hist = sample_history(phi, S.n_x, N=N, k=Kx, dt=dtv)
+    hist = sample_history(x0, S.n_x, N=N, k=Kx, dt=dtv, name="x0")
     # X rows: x(t_j) = X[Kh N + j], j = −Kh N … J
     X = np.empty((Kh * N + J + 1, S.n_x))
     X[: Kh * N + 1] = hist.T
@@ -184,6 +168,8 @@ def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, phi: 
         dt=dtv,
         state_names=tuple(getattr(sys, "state_names", None) or ()),
         output_names=tuple(getattr(sys, "output_names", None) or ()),
+        unknown_input_names=tuple(getattr(sys, "unknown_input_names", None) or ()),
+        known_input_names=tuple(getattr(sys, "known_input_names", None) or ()),
         noise=nu,
     )
 
@@ -196,7 +182,7 @@ def simulate(
     dt: Any,
     w: Any = None,
     u: Any = None,
-    phi: Any = None,
+    x0: Any = None,
     noise: Any = None,
     progress: bool | None = None,
 ) -> SimulationResult:
@@ -216,9 +202,9 @@ def simulate(
     w, u : callable, array or None
         Unknown / known inputs: callables of t (vectorised, returning ``(n, len(t))``,
         or scalar), constant vectors, or samples ``(n, T)`` on the grid (zero before 0).
-    phi : callable, array or None
-        Initial history of x on ``[−k h, 0]``, ``k = max(deg A, deg C)``: a callable of
-        t, a constant vector, or ``(n_x, k N + 1)`` samples.  None: zero.
+    x0 : callable, array or None
+        Initial state, or the history of x on ``[−k h, 0]``, ``k = max(deg A, deg C)``: a
+        callable of t, a constant vector, or ``(n_x, k N + 1)`` samples.  None: zero.
     noise : float, array or UniformNoise, optional
         Output noise, uniform in ``[−a, a]``, seeded (``UniformNoise(a, seed=…)``).
     progress : bool, optional
@@ -241,8 +227,8 @@ def simulate(
     >>> import numpy as np
     >>> class Scalar:  # x' = -x(t - h), constant history 1
     ...     A = np.array([[[0.0]], [[-1.0]]]); C = np.array([[[1.0]]]); h = None
-    >>> r = simulate(Scalar(), h=1.0, t_final=2.0, dt=0.25, phi=[1.0])
+    >>> r = simulate(Scalar(), h=1.0, t_final=2.0, dt=0.25, x0=[1.0])
     >>> abs(round(float(r.x[0, 4]), 12)), round(float(r.x[0, -1]), 6)   # x(1) = 1 − 1 = 0, x(2) = −1/2
     (0.0, -0.5)
     """
-    return plant_run(sys, h=h, t_final=t_final, dt=dt, w=w, u=u, phi=phi, noise=noise, progress=progress)
+    return plant_run(sys, h=h, t_final=t_final, dt=dt, w=w, u=u, x0=x0, noise=noise, progress=progress)

@@ -53,6 +53,18 @@ def _labels(names: Any, n: int, letter: str) -> tuple[str, ...]:
     return tuple(f"{letter}[{i}]" for i in range(n))
 
 
+#: The signal kinds of a result, in column order: (attribute, label source, prefix).
+_KINDS = (
+    ("x", "state_names", "x"),
+    ("y", "output_names", "y"),
+    ("w", "unknown_input_names", "w"),
+    ("u", "known_input_names", "u"),
+    ("x_hat", "state_names", "x_hat"),
+    ("error", "state_names", "error"),
+    ("w_hat", "unknown_input_names", "w_hat"),
+)
+
+
 @dataclass(frozen=True, eq=False)
 class SimulationResult:
     """Plant (and observer) trajectories on the grid ``t = 0, dt, …``; time on the last axis.
@@ -65,8 +77,9 @@ class SimulationResult:
     w, u : (n_w, T), (n_u, T) arrays — unknown and known inputs on the grid
     noise : (n_y, T) array or None — the output noise that was added
     x_hat, error : (n_x, T) arrays or None — estimate and ``x − x_hat`` (observer runs)
+    w_hat : (n_w, T) array or None — the unknown-input estimate, for methods that reconstruct it
     h, dt : float; N = h/dt
-    lag : int or None — deg T_L⁻¹: the estimate uses ẑ over ``[t − lag h, t]``
+    lag : int or None — the estimate at t reads the observer's state over ``[t − lag·h, t]``
     """
 
     t: np.ndarray
@@ -78,17 +91,23 @@ class SimulationResult:
     dt: float
     state_names: tuple[str, ...] = ()
     output_names: tuple[str, ...] = ()
+    unknown_input_names: tuple[str, ...] = ()
+    known_input_names: tuple[str, ...] = ()
     noise: np.ndarray | None = None
     x_hat: np.ndarray | None = None
     error: np.ndarray | None = None
+    w_hat: np.ndarray | None = None
     lag: int | None = None
     success: bool = True
     message: str = ""
     extra: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "state_names", _labels(self.state_names, self.x.shape[0], "x"))
-        object.__setattr__(self, "output_names", _labels(self.output_names, self.y.shape[0], "y"))
+        put = object.__setattr__
+        put(self, "state_names", _labels(self.state_names, self.x.shape[0], "x"))
+        put(self, "output_names", _labels(self.output_names, self.y.shape[0], "y"))
+        put(self, "unknown_input_names", _labels(self.unknown_input_names, self.w.shape[0], "w"))
+        put(self, "known_input_names", _labels(self.known_input_names, self.u.shape[0], "u"))
 
     @property
     def N(self) -> int:
@@ -114,11 +133,36 @@ class SimulationResult:
     def errors(self) -> Signals | None:
         return None if self.error is None else Signals(self.error, self.state_names)
 
+    @property
+    def input_estimates(self) -> Signals | None:
+        return None if self.w_hat is None else Signals(self.w_hat, self.unknown_input_names)
+
     def error_norm(self, ord: float = np.inf) -> np.ndarray:
         """``‖x(t) − x̂(t)‖`` at every grid time (max norm by default)."""
         if self.error is None:
             raise AttributeError("this result has no estimate (use simulate_observer)")
         return np.linalg.norm(self.error, ord=ord, axis=0)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Every signal as one named column: ``t``, then ``kind.name`` (``x.p``, ``y.p``,
+        ``w.w[0]``, ``u.u[0]``, ``x_hat.p``, ``error.p``, ``w_hat.w[0]``).
+
+        Signal names never contain ``.``, so ``kind.name`` never collides — a state and
+        an output may share a name, and a state may be called ``t``.
+
+        >>> r = SimulationResult(t=np.zeros(2), x=np.ones((1, 2)), y=np.ones((1, 2)), w=np.zeros((0, 2)),
+        ...                      u=np.zeros((0, 2)), h=1.0, dt=1.0, state_names=("p",), output_names=("p",))
+        >>> list(r.columns())
+        ['t', 'x.p', 'y.p']
+        """
+        cols: dict[str, np.ndarray] = {"t": self.t}
+        for attr, names, prefix in _KINDS:
+            arr = getattr(self, attr)
+            if arr is None:
+                continue
+            for name, row in zip(getattr(self, names), arr, strict=True):
+                cols[f"{prefix}.{name}"] = row
+        return cols
 
     def plot(self, **mpl_kwargs: Any) -> Any:
         """States vs estimates and the error on a log scale; see :func:`uio_ring.plot.plot_simulation`."""
@@ -127,20 +171,13 @@ class SimulationResult:
         return plot_simulation(self, **mpl_kwargs)
 
     def to_pandas(self) -> Any:
-        """A DataFrame indexed by t with one column per signal (pandas needed)."""
+        """A DataFrame indexed by t with the columns of :meth:`columns` (pandas needed)."""
         from uio_ring.errors import require
 
         pd = require("pandas", extra="notebooks")
-        cols: dict[str, np.ndarray] = {}
-        for name, row in zip(self.state_names, self.x, strict=True):
-            cols[name] = row
-        for name, row in zip(self.output_names, self.y, strict=True):
-            cols[name] = row
-        if self.x_hat is not None and self.error is not None:
-            for name, row, err in zip(self.state_names, self.x_hat, self.error, strict=True):
-                cols[f"{name}_hat"] = row
-                cols[f"e_{name}"] = err
-        return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
+        cols = self.columns()
+        t = cols.pop("t")
+        return pd.DataFrame(cols, index=pd.Index(t, name="t"))
 
     def __repr__(self) -> str:
         kind = "plant+observer" if self.x_hat is not None else "plant"

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from uio_ring.sim.errors import DimensionError, SimulationError
-from uio_ring.sim.history import sample_signal
+from uio_ring.numeric.history import sample_signal
 
 __all__ = ["UniformNoise", "as_noise", "input_samples"]
 

@@ -6,7 +6,7 @@ import math
 from fractions import Fraction
 from typing import Any
 
-from uio_ring.sim.errors import SimulationError
+from uio_ring.errors import SimulationError
 
 __all__ = ["as_float", "steps_per_delay", "step_count"]
 

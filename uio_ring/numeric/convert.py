@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from uio_ring.sim.errors import SimulationError
+from uio_ring.errors import SimulationError
 
 __all__ = ["coefficient_arrays", "poly_matmul", "eval_at_one"]
 
