@@ -12,14 +12,14 @@ in [−2, 2], ``D = 0`` (generically strongly observable since p > m), the time 
 * its certificate,
 
 plus the chain lengths μ and the size (decimal digits) of the largest
-denominator of ``T``.  Simulation: steps per second of the aircraft
-Simulation 1 (n = 7) for each discretisation.  Timings are never asserted.
+denominator of ``T``.  The simulation of the observer (steps per second through
+the one engine) is in ``bench_sim.py``.  Timings are never asserted.
 
 Usage::
 
     python benchmarks/bench_normal_form.py            # n = 5, 10, 20, 40
     python benchmarks/bench_normal_form.py --sizes 5 10
-    python benchmarks/bench_normal_form.py --quick    # n = 5 and a short simulation
+    python benchmarks/bench_normal_form.py --quick    # n = 5
 """
 
 from __future__ import annotations
@@ -38,7 +38,6 @@ for p in (ROOT, ROOT / "tests"):
 import numpy as np  # noqa: E402
 
 from uio_ring import DelaySystem, design_normal_form, normal_form_applicable  # noqa: E402
-from uio_ring.sim import simulate_normal_form_observer  # noqa: E402
 
 #: Levant's standard parameters continued linearly (only to time long random chains; no tuning claim)
 LAMBDAS = [1.1, 1.5, 2, 3, 5, 7, 10, 12] + [12 + 3 * k for k in range(1, 40)]
@@ -87,22 +86,6 @@ def bench_design(sizes: list[int], *, balanced: bool = False) -> None:
               f"{str(d.mu):<14} {_digits(d.T):>9}")
 
 
-def bench_sim(t_final: float) -> None:
-    from design import paper000
-
-    d = design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
-    w = lambda t: 0.008 + 0.01 * np.sin(2 * t) + 0.002 * np.cos(13 * t)  # noqa: E731
-    print("\nsimulation (aircraft, n = 7, plant + observer, dt = 1e-4)")
-    print(f"{'method':<10} {'steps':>7} {'time [s]':>9} {'steps/s':>9} {'max err t>3':>12}")
-    for method in ("implicit", "explicit", "euler"):
-        t0 = time.perf_counter()
-        r = simulate_normal_form_observer(d, t_final=t_final, dt=1e-4, w=w, x0=paper000.X0, method=method)
-        dt = time.perf_counter() - t0
-        steps = r.t.size - 1
-        late = r.t > min(3.0, 0.5 * t_final)
-        print(f"{method:<10} {steps:>7} {dt:>9.2f} {steps / dt:>9.0f} {r.error_norm()[late].max():>12.2e}")
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="*", default=[5, 10, 20, 40])
@@ -110,12 +93,10 @@ def main() -> None:
     args = ap.parse_args()
     if args.quick:
         bench_design([5])
-        bench_sim(0.5)
     else:
         bench_design(args.sizes, balanced=True)
         print()
         bench_design(args.sizes)
-        bench_sim(6.0)
 
 
 if __name__ == "__main__":

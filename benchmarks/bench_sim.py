@@ -22,6 +22,12 @@ Accuracy: max over t and components of |s − s_ref| / max|s_ref| (per component
 s = (x, ξ), reference = ours at dt = h/400 (order 4: ~250× below dt = 1e-4), cross-checked
 against jitcdde at the tightest tolerance.
 
+Every observer through the one engine
+    ``simulate_observer(design, …)`` end to end (plant + observer), steps per second:
+    the Zheng–Bejarano observer on the paper-001 example above, and the normal-form
+    observer (paper 000's aircraft, n = 7, Simulation 1) for each discretisation of its
+    differentiators.
+
 Usage::
 
     python benchmarks/bench_sim.py            # full table (jitcdde if installed)
@@ -34,13 +40,15 @@ from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
+from sys import path as sys_path
 
 import numpy as np
 
 from uio_ring import DelaySystem, design_zheng_bejarano
-from uio_ring.sim import DelayObserverSimulator, simulate
+from uio_ring.sim import simulate
 from uio_ring.numeric.convert import coefficient_arrays, poly_matmul
-from uio_ring.sim.plant import delayed_sum
+from uio_ring.numeric.taps import delayed_sum
 
 PAPER = dict(
     A="[[0,-1,1,0],[-1,d,0,0],[1,0,1,0],[d,1,1,-1]]",
@@ -58,15 +66,15 @@ def w_num(t):
 
 def ours(sys, design, h, dt, t_final):
     """Plant + observer with the same conventions as the DDE above; returns t, x, ξ."""
-    plant = simulate(sys, h=h, t_final=t_final, dt=dt, w=w_num, phi=PHI)
-    obs = DelayObserverSimulator(design, h=h, dt=dt, y_history=true_y_history(sys, design, h, dt))
-    xi = obs.run(plant.y, output="xi")
+    plant = simulate(sys, h=h, t_final=t_final, dt=dt, w=w_num, x0=PHI)
+    obs = design.numeric(h=h).stepper(dt)
+    xi = obs.trajectories(plant.y, y_history=true_y_history(sys, design, h, dt)).xi
     return plant.t, plant.x, xi
 
 
 def true_y_history(sys, design, h, dt):
     """y(t) = C(δ)φ + D(δ)w(t) at the negative grid times the observer reads."""
-    probe = DelayObserverSimulator(design, h=h, dt=dt)
+    probe = design.numeric(h=h).stepper(dt)
     L, N = probe.history_length, probe.N
     C = coefficient_arrays(sys.C)
     D = coefficient_arrays(sys.D)
@@ -200,6 +208,7 @@ def main() -> None:
     for N, el, e in ladder:
         print(f"{h / N:10.2e} {int(round(T * N / h)):8d} {el:9.4f} {e:14.2e}")
 
+    engine_table(sys, design, h, 0.5 if args.quick else 5.0)
     if args.quick or args.no_jitcdde:
         return
     try:
@@ -234,6 +243,31 @@ def main() -> None:
         rows.append((tol, el_j, e_j, N, el, e))
         print(f"{tol:11.0e} {el_j:9.3f} {e_j:9.2e} | {h / N:9.1e} {el:9.4f} {e:9.2e} | {el_j / el:6.1f}")
     print("(ratio = jitcdde time / ours time at equal or better accuracy of ours)")
+
+
+def engine_table(sys, design, h, t_final: float) -> None:
+    """Both observers through ``simulate_observer`` (plant + observer, end to end)."""
+    root = Path(__file__).resolve().parents[1] / "tests"
+    if str(root) not in sys_path:
+        sys_path.insert(0, str(root))
+    from design import paper000
+
+    from uio_ring import design_normal_form, simulate_observer
+
+    nf = design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
+    delta = lambda t: 0.008 + 0.01 * np.sin(2 * t) + 0.002 * np.cos(13 * t)  # noqa: E731
+    runs = [("zheng-bejarano", "", lambda: simulate_observer(design, sys, h=h, t_final=t_final, dt=1e-4,
+                                                               w=w_num, x0=PHI))]
+    for disc in ("implicit", "explicit", "euler"):
+        runs.append(("normal-form", disc, lambda disc=disc: simulate_observer(
+            nf, t_final=t_final, dt=1e-4, w=delta, x0=paper000.X0, discretisation=disc)))
+    print(f"\n4. every observer through simulate_observer (plant + observer, dt = 1e-4, {t_final:g} s)")
+    print(f"{'method':<16} {'discretisation':<15} {'steps':>7} {'time [s]':>9} {'steps/s':>10} {'final error':>12}")
+    for name, disc, run in runs:
+        r = run()
+        el = best_time(run, 3)
+        steps = r.t.size - 1
+        print(f"{name:<16} {disc or '-':<15} {steps:>7} {el:>9.3f} {steps / el:>10.3g} {r.error_norm()[-1]:>12.2e}")
 
 
 def _timed(f) -> float:

@@ -12,4 +12,4 @@ BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_normal_form.
 def test_bench_normal_form_quick_runs():
     proc = subprocess.run([sys.executable, str(BENCH), "--quick"], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    assert "design [s]" in proc.stdout and "steps/s" in proc.stdout
+    assert "design [s]" in proc.stdout

@@ -53,7 +53,7 @@ def test_order_four_against_method_of_steps(scalar_dde):
     a, b, h = sp.Rational(-1, 2), sp.Rational(-3, 2), sp.Integer(1)
     errs = []
     for N in (16, 32, 64, 128):
-        r = simulate(scalar_dde, h=1.0, t_final=3.0, dt=1.0 / N, phi=[1.0])
+        r = simulate(scalar_dde, h=1.0, t_final=3.0, dt=1.0 / N, x0=[1.0])
         coarse = r.t[::4]
         exact = exact_on_grid(a, b, h, 3, 1, coarse)
         errs.append(np.max(np.abs(r.x[0, ::4] - exact)))
@@ -77,7 +77,7 @@ def test_break_points_on_the_grid_keep_the_order():
         start = prev.subs(t, k - 1)
         pieces[k] = sp.expand(start - sp.integrate(prev.subs(t, s - 1), (s, k - 1, t)))
     exact = float(pieces[3].subs(t, 3))
-    errs = [abs(simulate(sys, h=1, t_final=3, dt=1 / N, phi=lambda tt: 1 + tt).x[0, -1] - exact) for N in (8, 16, 32)]
+    errs = [abs(simulate(sys, h=1, t_final=3, dt=1 / N, x0=lambda tt: 1 + tt).x[0, -1] - exact) for N in (8, 16, 32)]
     # the pieces are polynomials of degree ≤ 4: the cubic stencil is exact up to the φ-part
     assert max(errs) < 1e-12 or np.all(observed_orders(errs) >= 3.7), errs
 
@@ -88,7 +88,7 @@ def test_input_and_delayed_output_order():
         A=[[[-1.0]], [[1.0]]], C=[[[1.0]], [[2.0]]], B=[[[0.0]], [[1.0]]], D=[[[1.0]]]
     )
     w = lambda t: np.sin(5 * np.asarray(t))  # noqa: E731
-    ys = [simulate(sys, h=0.5, t_final=2.0, dt=0.5 / N, w=w, phi=[0.3]).y[0, -1] for N in (10, 20, 40, 80)]
+    ys = [simulate(sys, h=0.5, t_final=2.0, dt=0.5 / N, w=w, x0=[0.3]).y[0, -1] for N in (10, 20, 40, 80)]
     d = np.abs(np.diff(ys))
     p = np.log2(d[:-1] / d[1:])  # measured 3.47, 3.84
     assert p[0] >= 3.0 and p[-1] >= 3.7, d
@@ -99,8 +99,8 @@ def test_constant_coefficient_system_is_exact_for_polynomial_input():
     A0 = np.array([[0.0, 1.0], [-4.0, -0.4]])
     sys = ArraySystem(A=[A0], C=[np.eye(2)], B=[np.eye(2)])
     w = lambda t: np.array([np.asarray(t) ** 3, 1.0 - np.asarray(t) ** 2])  # noqa: E731
-    r = simulate(sys, h=0.25, t_final=1.0, dt=0.05, w=w, phi=[1.0, 0.0])
-    fine = simulate(sys, h=0.25, t_final=1.0, dt=0.25 / 50, w=w, phi=[1.0, 0.0])
+    r = simulate(sys, h=0.25, t_final=1.0, dt=0.05, w=w, x0=[1.0, 0.0])
+    fine = simulate(sys, h=0.25, t_final=1.0, dt=0.25 / 50, w=w, x0=[1.0, 0.0])
     assert np.max(np.abs(r.x[:, -1] - fine.x[:, -1])) < 1e-12
 
 
@@ -145,12 +145,12 @@ BAD = [
     (dict(dt=0.003), SimulationError, r"dt=0.003 is not h/N .*N = 3 .*N = 4"),
     (dict(dt=0.02), SimulationError, r"dt=0.02 is not h/N .*N = 1"),
     (dict(dt=-1), SimulationError, r"dt=-1 must be a positive"),
-    (dict(phi=np.zeros((4, 3))), DimensionError, r"phi has shape \(4, 3\); expected .*\(4, 11\)"),
-    (dict(phi=[1.0, 2.0]), DimensionError, r"phi has shape"),
+    (dict(x0=np.zeros((4, 3))), DimensionError, r"x0 has shape \(4, 3\); expected .*\(4, 11\)"),
+    (dict(x0=[1.0, 2.0]), DimensionError, r"x0 has shape"),
     (dict(w=np.zeros((2, 7))), DimensionError, r"w has shape \(2, 7\); expected .*\(2, 51\)"),
     (dict(w=np.full((2, 51), np.nan)), SimulationError, r"w is not finite at component 0, sample 0"),
     (dict(w=lambda t: np.array([np.inf * np.asarray(t), 0 * np.asarray(t)])), SimulationError, r"w is not finite"),
-    (dict(phi=lambda t: np.full((4, np.size(t)), np.nan)), SimulationError, r"phi is not finite"),
+    (dict(x0=lambda t: np.full((4, np.size(t)), np.nan)), SimulationError, r"x0 is not finite"),
     (dict(u=lambda t: t), DimensionError, r"u was given, but the system has no u inputs"),
     (dict(h=None), SimulationError, r"h is required"),
 ]
@@ -194,5 +194,5 @@ def test_constant_vector_input_has_no_jump():
     from uio_ring import DelaySystem
 
     sys = DelaySystem("[[-1]]", "[[0]]", "[[1]]", "[[0]]", E="[[d]]", F="[[0]]")
-    r = simulate(sys, h=0.5, t_final=2.0, dt=0.05, u=[1.0], phi=[1.0])
+    r = simulate(sys, h=0.5, t_final=2.0, dt=0.05, u=[1.0], x0=[1.0])
     assert np.allclose(r.x, 1.0, atol=1e-12)

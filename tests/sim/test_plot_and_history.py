@@ -82,7 +82,7 @@ def test_plot_observer_and_plant(paper_design):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    r = simulate_observer(paper_design, h=0.01, t_final=0.2, dt=0.001, w=paper_w, phi=[1, 0, 0, 0])
+    r = simulate_observer(paper_design, h=0.01, t_final=0.2, dt=0.001, w=paper_w, x0=[1, 0, 0, 0])
     fig = r.plot(figsize=(6, 4))
     ax_err = fig.axes[1]
     assert ax_err.get_yscale() == "log" and len(fig.axes[0].lines) == 8
@@ -118,7 +118,7 @@ def test_to_pandas_or_a_clear_missing_dependency(paper_design):
             r.to_pandas()
     else:
         df = r.to_pandas()
-        assert list(df.columns[:2]) == ["x[0]", "x[1]"] and "e_x[3]" in df.columns and len(df) == 21
+        assert list(df.columns[:2]) == ["x.x[0]", "x.x[1]"] and "error.x[3]" in df.columns and len(df) == 21
 
 
 def test_result_repr_and_labels(paper_design):

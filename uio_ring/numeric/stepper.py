@@ -59,11 +59,13 @@ _NODES_SECOND = (-1, 0, 1)  # second step of a guarded block
 
 @dataclass(frozen=True, eq=False)
 class ObserverTrajectories:
-    """What a whole run gives: ``x_hat`` ``(n_x, T)``, ``w_hat`` ``(n_w, T)`` or None, ``z`` ``(n_z, T)``."""
+    """What a whole run gives: ``x_hat`` ``(n_x, T)``, ``w_hat`` ``(n_w, T)`` or None, and the
+    observer's ``z`` (ẑ) and state ``xi`` (ξ), both ``(n_z, T)``."""
 
     x_hat: np.ndarray
     w_hat: np.ndarray | None
     z: np.ndarray
+    xi: np.ndarray
 
 
 def solve_chain(a: float, coef: list[float], s0: float, mu: int) -> tuple[float, float]:
@@ -436,7 +438,7 @@ class ObserverStepper:
         _finite(a, name)
         return a
 
-    def _outputs(self, Zr: np.ndarray, T: int) -> ObserverTrajectories:
+    def _outputs(self, Zr: np.ndarray, xi: np.ndarray, T: int) -> ObserverTrajectories:
         """x̂ and ŵ from ẑ (rows, held at ẑ(0) before 0)."""
         Kz = self.lag * self.N
         kw = 0 if self.Wm is None else (self.Wm.shape[0] - 1) * self.N
@@ -444,64 +446,70 @@ class ObserverStepper:
         Zrows = np.concatenate([np.repeat(Zr[:1], pad, axis=0), Zr])
         xh = delayed_sum(self.X, Zrows, 0, T - 1, self.N, pad).T
         wh = None if self.Wm is None else delayed_sum(self.Wm, Zrows, 0, T - 1, self.N, pad).T
-        return ObserverTrajectories(x_hat=xh, w_hat=wh, z=Zr.T)
+        return ObserverTrajectories(x_hat=xh, w_hat=wh, z=Zr.T, xi=xi.T)
 
-    def _run_linear(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi0: np.ndarray) -> ObserverTrajectories:
+    def _forcing_table(self, G: np.ndarray, T: int) -> np.ndarray:
+        """Forcing of the steps ``j → j+1`` (rows ``j = 0 … T−2``) from ``G[j + 2] = g(t_j)``."""
+        N = self.N
+        GT = G.T
+        if self.cubic:
+            Gq = (self.W[0] @ GT[:, 0 : T - 1] + self.W[1] @ GT[:, 1:T] + self.W[2] @ GT[:, 2 : T + 1]
+                  + self.W[3] @ GT[:, 3 : T + 2]).T
+            end = min(self.guard_blocks * N, T - 1)
+        else:
+            Gq = (self.W_first[0] @ GT[:, 2 : T + 1] + self.W_first[1] @ GT[:, 3 : T + 2]).T
+            end = 0
+        # steps at the start of a guarded block stay inside it
+        first = np.arange(0, end, N)
+        second = first[first + 1 < end] + 1
+        Wf, Ws = self.W_first, self.W_second
+        Gq[first] = (Wf[0] @ GT[:, first + 2] + Wf[1] @ GT[:, first + 3]).T
+        if N > 1:
+            Gq[second] = (Ws[0] @ GT[:, second + 1] + Ws[1] @ GT[:, second + 2] + Ws[2] @ GT[:, second + 3]).T
+        return Gq
+
+    def _taps(self, Yrows: np.ndarray, Urows: np.ndarray, T: int) -> tuple[np.ndarray, np.ndarray]:
+        """``G[j + 2] = g(t_j)`` for ``j = −2 … T−1`` and ``D[j] = ẑ(t_j) − ξ(t_j)``."""
         L, N = self.history_length, self.N
-        G = delayed_sum(self.Gy, Yrows, -2, T - 1, N, L)  # g at j = −2 … T−1 → G[j + 2]
+        G = delayed_sum(self.Gy, Yrows, -2, T - 1, N, L)
+        D = delayed_sum(self.Dy, Yrows, 0, T - 1, N, L)
         if self.n_u:
             G = G + delayed_sum(self.Gu, Urows, -2, T - 1, N, L)
+            D = D + delayed_sum(self.Du, Urows, 0, T - 1, N, L)
+        return G, D
+
+    def _run_linear(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi0: np.ndarray) -> ObserverTrajectories:
+        G, D = self._taps(Yrows, Urows, T)
+        xi = np.empty((T, self.n_z))
+        xi[0] = xi0
         if T > 1:
-            GT = G.T
-            if self.cubic:
-                Gq = (self.W[0] @ GT[:, 0 : T - 1] + self.W[1] @ GT[:, 1:T] + self.W[2] @ GT[:, 2 : T + 1]
-                      + self.W[3] @ GT[:, 3 : T + 2]).T
-                end = min(self.guard_blocks * N, T - 1)
-            else:
-                Gq = (self.W_first[0] @ GT[:, 2:T + 1] + self.W_first[1] @ GT[:, 3 : T + 2]).T
-                end = 0
-            first = np.arange(0, end, N)
-            second = first[first + 1 < end] + 1
-            Wf, Ws = self.W_first, self.W_second
-            Gq[first] = (Wf[0] @ GT[:, first + 2] + Wf[1] @ GT[:, first + 3]).T
-            if N > 1:
-                Gq[second] = (Ws[0] @ GT[:, second + 1] + Ws[1] @ GT[:, second + 2] + Ws[2] @ GT[:, second + 3]).T
-            xi = np.empty((T, self.n_z))
-            xi[0] = xi0
-            xi[1:] = LinearScan(self.Phi, chunk=16).run(xi0, Gq)
-        else:
-            xi = xi0[None, :]
-        Z = xi + delayed_sum(self.Dy, Yrows, 0, T - 1, N, L)
-        if self.n_u:
-            Z = Z + delayed_sum(self.Du, Urows, 0, T - 1, N, L)
-        return self._outputs(Z, T)
+            xi[1:] = LinearScan(self.Phi, chunk=16).run(xi0, self._forcing_table(G, T))
+        return self._outputs(xi + D, xi, T)
 
     def _run_loop(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi: np.ndarray) -> ObserverTrajectories:
         """Models with an injection term: one step at a time (the term is nonlinear)."""
-        L, N = self.history_length, self.N
-        Y, U = Yrows[L:].T, Urows[L:].T
-        G = delayed_sum(self.Gy, Yrows, -2, T - 1, N, L)
-        if self.n_u:
-            G = G + delayed_sum(self.Gu, Urows, -2, T - 1, N, L)
-        D = delayed_sum(self.Dy, Yrows, 0, T - 1, N, L)
-        if self.n_u:
-            D = D + delayed_sum(self.Du, Urows, 0, T - 1, N, L)
+        L = self.history_length
+        Y, U = Yrows[L:], Urows[L:]
+        G, D = self._taps(Yrows, Urows, T)
         inj = self.inj
         assert inj is not None  # _run_loop is only for models with injection
-        Meas = Y.T @ inj.Sy.T + (U.T @ inj.Su.T if self.n_u else 0.0)
+        Meas = Y @ inj.Sy.T + (U @ inj.Su.T if self.n_u else 0.0)
         Xi = np.empty((T, self.n_z))
         Xi[0] = xi
-        saved = (self.k, getattr(self, "_g", None))
-        self.k = 0
-        self._g = [G[0], G[1], G[2]]
+        Phi, Kl, F, dt, method = self.Phi, self.Kl, self.model.F, self.dt, inj.method
+        starts = list(inj.starts)
+        Fq = self._forcing_table(G, T) if T > 1 else None
         for k in range(1, T):
-            xi = self._advance(xi, G[k + 2], Y[:, k], U[:, k], False, Meas[k - 1], U[:, k - 1])
+            if method == "implicit":
+                xi = inj.implicit(Phi @ xi + Fq[k - 1], Meas[k])
+            elif method == "explicit":
+                xi = Phi @ xi + Fq[k - 1] + Kl @ inj.l_of(Meas[k - 1] - xi[starts])
+            else:  # euler
+                xi = xi + dt * (F @ xi + G[k + 1] + inj.l_of(Meas[k - 1] - xi[starts]))
             Xi[k] = xi
             if k % 1024 == 0 and not np.all(np.isfinite(xi)):
-                raise SimulationError(f"the observer diverged near t = {k * self.dt:g} (dt = {self.dt:g})")
-            self.k = k
-        self.k, self._g = saved
-        return self._outputs(Xi + D, T)
+                raise SimulationError(f"the observer diverged near t = {k * dt:g} (dt = {dt:g})")
+        return self._outputs(Xi + D, Xi, T)
 
     def noise_gain(self, horizon: float | None = None) -> np.ndarray:
         """ℓ¹ norms of the discrete impulse responses, output j → estimate i: shape ``(n_x, n_y)``.

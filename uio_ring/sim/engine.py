@@ -219,7 +219,7 @@ def _closed_loop(model: Any, stepper: Any, sys: Any, t_final: Any, dt: float, w:
     )
     from uio_ring.numeric.stepper import ObserverTrajectories
 
-    return _result(res, ObserverTrajectories(x_hat=XH, w_hat=WH, z=np.zeros((0, 0))), stepper, model)
+    return _result(res, ObserverTrajectories(x_hat=XH, w_hat=WH, z=np.zeros((0, 0)), xi=np.zeros((0, 0))), stepper, model)
 
 
 def _warm(model: Any, stepper: Any, sys: Any, h: float, t_final: Any, w: Any, u: Any, x0: Any, nz: Any,
