@@ -99,7 +99,7 @@ def test_auto_picks_the_normal_form_for_the_aircraft_and_says_why(tmp_path, caps
     skipped = [line for line in out.splitlines() if line.startswith("auto skipped zheng-bejarano")]
     assert skipped and "Assumption 2" in skipped[0]
     design = load_design(tmp_path / "aircraft_normal_form.json")  # named by the spec
-    assert design.method == "normal_form" and design.certificate().ok
+    assert design.method == "normal-form" and design.certificate().ok
     assert design.mu == (4, 3)
 
 

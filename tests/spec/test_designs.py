@@ -17,7 +17,7 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 @pytest.mark.parametrize("name", ["zheng2015.yaml", "two_masses_delay_free.yaml"])
 def test_round_trip_gives_an_equal_design(tmp_path, name):
     spec = load_spec(EXAMPLES / name)
-    design = design_auto(spec.system, spec.design.options).design
+    design = design_auto(spec.system, **spec.design.options).design
     paths = save_design(design, tmp_path / "d", formats=("json", "yaml", "latex"))
     assert [p.suffix for p in paths] == [".json", ".yaml", ".tex"]
     for p in paths[:2]:
@@ -38,7 +38,7 @@ def test_not_a_design_file(tmp_path):
 
 def test_design_file_with_a_missing_field(tmp_path):
     spec = load_spec(EXAMPLES / "zheng2015.yaml")
-    design = design_auto(spec.system, spec.design.options).design
+    design = design_auto(spec.system, **spec.design.options).design
     (p,) = save_design(design, tmp_path / "d", formats=("json",))
     data = json.loads(p.read_text())
     del data["fields"]["T"]
@@ -49,8 +49,8 @@ def test_design_file_with_a_missing_field(tmp_path):
 
 def test_normal_form_design_round_trip(tmp_path):
     spec = load_spec(EXAMPLES / "aircraft_normal_form.yaml")
-    design = design_auto(spec.system, spec.design.options).design
-    assert design.method == "normal_form"
+    design = design_auto(spec.system, **spec.design.options).design
+    assert design.method == "normal-form"
     for p in save_design(design, tmp_path / "nf", formats=("json", "yaml")):
         again = load_design(p)
         assert again == design and again.certificate().ok

@@ -55,17 +55,12 @@ def _rule(title: str) -> str:
     return f"\n== {title} " + "=" * max(0, 60 - len(title))
 
 
-def _checks(spec: Any) -> list[tuple[str, Any]]:
+def _checks(spec: Any) -> list[tuple[str, bool, Any, str]]:
+    """``(method, holds, report, reason)`` for the spec's method, or for every method under auto."""
     from uio_ring.design.methods import METHODS, get_method
 
     names = list(METHODS) if spec.design.method == "auto" else [spec.design.method]
-    out = []
-    for name in names:
-        method = get_method(name)
-        if method.delay_free_only and not spec.system.is_delay_free:
-            continue
-        out.append((name, method.check(spec.system)))
-    return out
+    return [(name, *get_method(name).applies(spec.system)) for name in names]
 
 
 def _run_check(args: argparse.Namespace) -> int:
@@ -76,10 +71,10 @@ def _run_check(args: argparse.Namespace) -> int:
     print(f"{spec.name}: n_x = {system.n_x}, n_w = {system.n_w}, n_u = {system.n_u}, n_y = {system.n_y}, "
           f"δ-degree {system.max_delay_degree}, h = {system.h}")
     any_ok = False
-    for name, report in _checks(spec):
-        print(_rule(f"method {name}: {'applicable' if report.holds else 'NOT applicable'}"))
-        print(report)
-        any_ok = any_ok or report.holds
+    for name, holds, report, reason in _checks(spec):
+        print(_rule(f"method {name}: {'applicable' if holds else 'NOT applicable'}"))
+        print(report if report is not None else reason)
+        any_ok = any_ok or holds
     return 0 if any_ok else 1
 
 
@@ -87,9 +82,9 @@ def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
     from uio_ring.design.methods import design_auto, design_with
 
     if spec.design.method == "auto":
-        res = design_auto(spec.system, spec.design.options)
+        res = design_auto(spec.system, **spec.design.options)
         return res.design, res.method, res.skipped
-    return design_with(spec.design.method, spec.system, spec.design.options), spec.design.method, ()
+    return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
 
 
 def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, quiet: bool) -> None:
@@ -165,61 +160,46 @@ def _run_simulate(args: argparse.Namespace) -> int:
 
 
 def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
-    sim = spec.simulate
-    phi = sim.signal("phi")
-    x_hat0 = None if sim.x_hat0 is None else [float(v) for v in sim.x_hat0]
-    if design.method == "normal_form":
-        import numpy as np
-
-        from uio_ring.sim.normal_form_observer import simulate_normal_form_observer
-
-        x0 = None if phi is None else np.asarray(phi(np.zeros(1)))[:, 0]  # constant initial state φ(0)
-        return simulate_normal_form_observer(
-            design,
-            spec.system,
-            t_final=float(sim.t_final),
-            dt=float(sim.dt),
-            w=sim.signal("w"),
-            u=sim.signal("u"),
-            x0=x0,
-            x_hat0=x_hat0,
-            method=sim.discretisation,
-            noise=sim.noise(),
-        )
     from uio_ring.sim import simulate_observer
 
+    sim = spec.simulate
+    x_hat0 = None if sim.x_hat0 is None else [float(v) for v in sim.x_hat0]
     return simulate_observer(
         design,
         spec.system,
-        h=float(sim.h),
+        h=None if spec.system.h is None else float(sim.h),
         t_final=float(sim.t_final),
         dt=float(sim.dt),
         w=sim.signal("w"),
         u=sim.signal("u"),
-        phi=phi,
+        x0=sim.signal("phi"),
         noise=sim.noise(),
         x_hat0=x_hat0,
+        discretisation=sim.discretisation,
         progress=progress,
     )
 
 
 def _write_signals(result: Any, stem: Path, *, npz: bool) -> Path:
+    """Every signal of the result (t, x, y, w, u, x̂, error, ŵ) as CSV columns ``kind.name``
+    (unique by construction), or as NPZ arrays with the names alongside."""
+    import csv
+
     import numpy as np
 
-    names = list(result.state_names) or [f"x[{i}]" for i in range(result.x.shape[0])]
-    ynames = list(result.output_names) or [f"y[{i}]" for i in range(result.y.shape[0])]
-    columns = {"t": result.t}
-    columns.update({n: result.x[i] for i, n in enumerate(names)})
-    columns.update({n: result.y[i] for i, n in enumerate(ynames)})
-    columns.update({f"xhat_{n}": result.x_hat[i] for i, n in enumerate(names)})
-    columns.update({f"error_{n}": result.error[i] for i, n in enumerate(names)})
+    columns = result.columns()
     if npz:
         path = stem.with_suffix(".npz")
-        np.savez_compressed(path, t=result.t, x=result.x, y=result.y, x_hat=result.x_hat, error=result.error)
+        arrays = {k: getattr(result, k) for k in ("t", "x", "y", "w", "u", "x_hat", "error", "w_hat")
+                  if getattr(result, k) is not None}
+        np.savez_compressed(path, **arrays, columns=np.array(list(columns)))
         return path
     path = stem.with_suffix(".csv")
     data = np.column_stack(list(columns.values()))
-    np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.10g")
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(list(columns))
+        writer.writerows([f"{v:.10g}" for v in row] for row in data)
     return path
 
 

@@ -1,16 +1,18 @@
-"""The registry of design methods, and ``design_auto``.
+"""The one registry of design methods, and ``design_auto``.
 
-Each method has a name (as written in spec files), a check that returns a
-report with ``.holds`` and ``.reason`` (never raises for a failed
-assumption), and a design function.  ``design_auto`` tries the methods in
-order and takes the first whose check holds, recording why each earlier one
-was skipped.  New methods register with :func:`register_method`.
+A method is one record, :class:`DesignMethod`: its name (one spelling, used by
+the registry, ``design.method``, design files and the CLI), its design class,
+its typed options, the applicability check (a report with ``.holds`` and
+``.reason``; never raises for a failed assumption), the design function
+(``design(sys, *, report=None, **options)``) and its certificate.  The spec
+loader, the JSON Schema of spec files and the CLI only loop over
+:data:`METHODS`.  A new method registers with :func:`register_method`.
 
 >>> from uio_ring import DelaySystem
 >>> sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)
->>> result = design_auto(sys)
->>> result.method, result.design.certificate().ok
-('zheng-bejarano', True)
+>>> result = design_auto(sys, poles=[-2])
+>>> result.method, result.design.method, result.design.certificate().ok
+('zheng-bejarano', 'zheng-bejarano', True)
 """
 
 from __future__ import annotations
@@ -19,38 +21,99 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from uio_ring.design.options import MethodOption
 from uio_ring.errors import NotObservableError, SpecError
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["DesignMethod", "AutoResult", "METHODS", "register_method", "get_method", "design_auto", "design_with"]
+__all__ = [
+    "DesignMethod",
+    "MethodOption",
+    "AutoResult",
+    "METHODS",
+    "register_method",
+    "get_method",
+    "design_auto",
+    "design_with",
+]
 
 
 @dataclass(frozen=True)
 class DesignMethod:
-    """A design method as the spec layer and ``auto`` see it.
+    """A design method as the registry, the spec layer and ``auto`` see it.
 
-    ``check(sys)`` returns a report with ``.holds`` and ``.reason``;
-    ``design(sys, **options)`` returns an ``ObserverDesign`` or raises
-    ``NotObservableError``; ``options`` names the keyword options the spec's
-    ``design:`` section may pass (other keys are refused).
+    Attributes
+    ----------
+    name : str
+        The one spelling of the method (``"zheng-bejarano"``); equals ``design_class.method``.
+    summary : str
+        One line for ``uio-ring check`` and the schema.
+    design_class : type
+        The :class:`~uio_ring.design.base.ObserverDesign` subclass it returns.
+    check : callable
+        ``check(sys)`` → report with ``.holds`` and ``.reason``.
+    design : callable
+        ``design(sys, *, report=None, **options)`` → design, or ``NotObservableError``.
+    certificate : callable
+        ``certificate(design)`` → :class:`~uio_ring.ring.certificate.Certificate`.
+    options : tuple of MethodOption
+        The keyword options (spec keys) it takes.
+    delay_free_only : bool
+        The method applies to delay-free systems only.
     """
 
     name: str
     summary: str
+    design_class: type
     check: Callable[[DelaySystem], Any]
     design: Callable[..., Any]
-    options: tuple[str, ...] = ()
-    required: tuple[str, ...] = ()
+    certificate: Callable[[Any], Any]
+    options: tuple[MethodOption, ...] = ()
     delay_free_only: bool = False
+
+    @property
+    def option_names(self) -> tuple[str, ...]:
+        return tuple(o.name for o in self.options)
+
+    @property
+    def required(self) -> tuple[str, ...]:
+        return tuple(o.name for o in self.options if o.required)
+
+    def applies(self, sys: DelaySystem) -> tuple[bool, Any, str]:
+        """``(holds, report, reason)`` — without running the check when the system's kind rules it out."""
+        if self.delay_free_only and not sys.is_delay_free:
+            return False, None, "applies to delay-free systems only (this one has delays)"
+        report = self.check(sys)
+        return bool(report.holds), report, "" if report.holds else report.reason
+
+    def read_options(self, data: Mapping[str, Any], path: str = "design") -> dict[str, Any]:
+        """Exact option values from plain data; refuses unknown keys and names missing ones."""
+        known = {o.name: o for o in self.options}
+        unknown = sorted(set(data) - set(known))
+        if unknown:
+            raise SpecError(
+                f"option(s) {', '.join(unknown)} do not apply to method {self.name!r} "
+                f"(its options: {', '.join(known) or 'none'})",
+                path=f"{path}.{unknown[0]}",
+            )
+        missing = [k for k in self.required if k not in data]
+        if missing:
+            raise SpecError(f"method {self.name!r} needs {', '.join(missing)}", path=f"{path}.{missing[0]}")
+        return {k: known[k].read(v, f"{path}.{k}") for k, v in data.items()}
 
 
 @dataclass(frozen=True)
 class AutoResult:
-    """What ``design_auto`` chose: the design, its method, and why others were skipped."""
+    """What :func:`design_auto` chose.
+
+    ``design`` is the design, ``method`` the name of its method, ``skipped`` the
+    ``(name, reason)`` of every method tried before it, ``report`` the analysis
+    report of the chosen method (computed once, passed to its design function).
+    """
 
     design: Any
     method: str
-    skipped: tuple[tuple[str, str], ...] = field(default=())
+    skipped: tuple[tuple[str, str], ...] = ()
+    report: Any = field(default=None, compare=False)
 
     def explanation(self) -> str:
         lines = [f"method: {self.method}"]
@@ -62,62 +125,67 @@ METHODS: dict[str, DesignMethod] = {}
 
 
 def register_method(method: DesignMethod) -> None:
-    """Add a method (its name must be new)."""
+    """Add a method (its name must be new and equal ``method.design_class.method``)."""
     if method.name in METHODS:
         raise ValueError(f"design method {method.name!r} is already registered")  # noqa: TRY003
+    if getattr(method.design_class, "method", method.name) != method.name:
+        raise ValueError(  # noqa: TRY003
+            f"design method {method.name!r}: its design class spells it {method.design_class.method!r}"
+        )
     METHODS[method.name] = method
 
 
 def get_method(name: str) -> DesignMethod:
+    """The registry entry of ``name``; ``SpecError`` (path ``design.method``) naming the known ones."""
     try:
         return METHODS[name]
     except KeyError:
+        import difflib
+
+        close = difflib.get_close_matches(str(name), ["auto", *METHODS], n=1)
+        hint = f"; did you mean '{close[0]}'?" if close else ""
         known = ", ".join(["auto", *METHODS])
-        raise SpecError(f"unknown design method {name!r}; known: {known}", path="design.method") from None
+        raise SpecError(f"unknown design method {name!r}{hint} (known: {known})", path="design.method") from None
 
 
-def design_with(name: str, sys: DelaySystem, options: Mapping[str, Any] | None = None) -> Any:
-    """Design with one named method (options checked against the method's list)."""
+def design_with(name: str, sys: DelaySystem, *, report: Any = None, **options: Any) -> Any:
+    """Design with one named method (keyword options checked against its list)."""
     method = get_method(name)
-    opts = dict(options or {})
-    missing = [k for k in method.required if k not in opts]
+    missing = [k for k in method.required if k not in options]
     if missing:
         raise SpecError(f"method {name!r} needs the option(s) {', '.join(missing)}", path="design")
-    unknown = sorted(set(opts) - set(method.options))
+    unknown = sorted(set(options) - set(method.option_names))
     if unknown:
         raise SpecError(
             f"option(s) {', '.join(unknown)} do not apply to method {name!r} "
-            f"(its options: {', '.join(method.options) or 'none'})",
+            f"(its options: {', '.join(method.option_names) or 'none'})",
             path="design",
         )
-    return method.design(sys, **opts)
+    return method.design(sys, report=report, **options)
 
 
-def design_auto(sys: DelaySystem, options: Mapping[str, Any] | None = None) -> AutoResult:
-    """Design with the first registered method whose check holds.
+def design_auto(sys: DelaySystem, **options: Any) -> AutoResult:
+    """Design with the first registered method whose check holds (each check runs once).
 
-    Options that a method does not take are not passed to it.  Raises
-    ``NotObservableError`` naming every method and its failed assumption when
-    none applies.
+    Keyword options go to the method that is chosen; options that a method does not
+    take are not passed to it, and a method whose required options are missing is
+    skipped.  Raises ``NotObservableError`` naming every method and why it does not
+    apply when none does.
     """
-    opts = dict(options or {})
     skipped: list[tuple[str, str]] = []
     last_report = None
     for method in METHODS.values():
-        if method.delay_free_only and not sys.is_delay_free:
-            skipped.append((method.name, "applies to delay-free systems only (this one has delays)"))
-            continue
-        missing = [k for k in method.required if k not in opts]
+        missing = [k for k in method.required if k not in options]
         if missing:
             skipped.append((method.name, f"needs design option(s) {', '.join(missing)}"))
             continue
-        report = method.check(sys)
-        last_report = report
-        if not report.holds:
-            skipped.append((method.name, report.reason))
+        holds, report, reason = method.applies(sys)
+        last_report = report if report is not None else last_report
+        if not holds:
+            skipped.append((method.name, reason))
             continue
-        mine = {k: v for k, v in opts.items() if k in method.options}
-        return AutoResult(method.design(sys, **mine), method.name, tuple(skipped))
+        mine = {k: v for k, v in options.items() if k in method.option_names}
+        return AutoResult(method.design(sys, report=report, **mine), method.name, tuple(skipped), report)
     detail = "; ".join(f"{name}: {why}" for name, why in skipped)
     raise NotObservableError(f"no design method applies — {detail}", report=last_report)
 
@@ -125,37 +193,56 @@ def design_auto(sys: DelaySystem, options: Mapping[str, Any] | None = None) -> A
 def _register_builtin() -> None:
     from uio_ring.analysis.assumptions import check_assumptions
     from uio_ring.analysis.normal_form_applicability import normal_form_applicable
+    from uio_ring.design.delay_uio_design import DelayUIODesign
+    from uio_ring.design.normal_form import NormalFormDesign, design_normal_form
     from uio_ring.design.zheng_bejarano import design_zheng_bejarano
+    from uio_ring.verify.delay_uio import delay_uio_certificate
+    from uio_ring.verify.normal_form import normal_form_certificate
 
     register_method(
         DesignMethod(
             name="zheng-bejarano",
-            summary="delay UIO of Zheng, Bejarano, Perruquetti & Richard (paper 001); exact error dynamics e' = (A0 - G0 C0) e",
+            summary="delay UIO of Zheng, Bejarano, Perruquetti & Richard (2015); exact error dynamics "
+            "e' = (A0 - G0 C0) e",
+            design_class=DelayUIODesign,
             check=check_assumptions,
             design=design_zheng_bejarano,
-            options=("poles",),
+            certificate=delay_uio_certificate,
+            options=(
+                MethodOption("poles", "rationals", "l* exact rationals: the spectrum of A0 - G0 C0 on each "
+                             "output channel (default -1, -2, ..., -l*)"),
+                MethodOption("search", "bool", "try the variants of the design choices and keep the "
+                             "smallest observer with the least lag (default true)"),
+            ),
         )
     )
     register_method(
         DesignMethod(
             name="normal-form",
-            summary="observer normal form with robust exact differentiators (paper 000); delay-free, "
-            "strongly observable systems, no matching condition needed",
+            summary="observer normal form with robust exact differentiators (Niederwieser et al.); "
+            "delay-free, strongly observable systems, no matching condition needed",
+            design_class=NormalFormDesign,
             check=normal_form_applicable,
-            design=_design_normal_form,
-            options=("input_bounds", "reconstruct_input", "gains", "lipschitz", "safety", "lipschitz_floor", "lambdas"),
-            required=("input_bounds",),
+            design=design_normal_form,
+            certificate=normal_form_certificate,
+            options=(
+                MethodOption("input_bounds", "rational_or_rationals", "bounds of |w| (of |w'| with "
+                             "reconstruct_input), one per unknown input or one for all", required=True),
+                MethodOption("reconstruct_input", "bool", "also reconstruct the unknown input w "
+                             "(augmented state [x; w])"),
+                MethodOption("gains", "rational_rows", "differentiator gains per chain, top to bottom "
+                             "(default: Levant's parameters scaled by the Lipschitz constants)"),
+                MethodOption("lipschitz", "rationals", "Lipschitz constants per chain (default from "
+                             "the input bounds)"),
+                MethodOption("safety", "rational", "safety factor of the default Lipschitz rule (default 8)"),
+                MethodOption("lipschitz_floor", "rational", "smallest Lipschitz constant of the default "
+                             "rule (default 10)"),
+                MethodOption("lambdas", "rationals", "differentiator parameters for chains longer than "
+                             "Levant's list"),
+            ),
             delay_free_only=True,
         )
     )
-
-
-def _design_normal_form(sys: DelaySystem, **options: Any) -> Any:
-    """``design_normal_form(sys, input_bounds, **rest)`` (it raises ``NotObservableError``)."""
-    from uio_ring.design.normal_form import design_normal_form
-
-    bounds = options.pop("input_bounds")
-    return design_normal_form(sys, bounds, **options)
 
 
 _register_builtin()

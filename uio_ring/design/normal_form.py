@@ -503,6 +503,7 @@ def design_normal_form(
     safety: Any = 8,
     lipschitz_floor: Any = 10,
     lambdas: Sequence[Any] | None = None,
+    report: NormalFormApplicability | None = None,
 ) -> NormalFormDesign:
     """Observer normal form and RED observer of paper 000 for a delay-free system.
 
@@ -528,6 +529,9 @@ def design_normal_form(
         See ``lipschitz``.
     lambdas
         Levant's parameters (default :data:`uio_ring.design.red_gains.LEVANT_LAMBDAS`).
+    report
+        The :func:`~uio_ring.analysis.normal_form_applicable` report of ``sys`` when it was
+        computed already (``design_auto`` analyses once); default: computed here.
 
     Returns
     -------
@@ -561,7 +565,7 @@ def design_normal_form(
     >>> des.mu, des.T, des.d_bar_rows(), [float(k) for k in des.kappa[0]]
     ((2,), PolyMatrix([[1, 0], [0, 1]]), ((Fraction(1, 1),),), [4.74341649025, 11.0])
     """
-    rep = normal_form_applicable(sys)  # decisive: Smith form of P(s); V* is not recomputed here
+    rep = normal_form_applicable(sys) if report is None else report  # decisive: Smith form of P(s)
     if not rep.ok:
         raise NotObservableError(f"the observer normal form does not apply: {rep.reason}", report=rep)
     M = {k: qc.qmat(v, k) for k, v in sys.matrices().items()}

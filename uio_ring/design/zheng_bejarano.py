@@ -357,7 +357,8 @@ def _lambda_choices(C_tilde: PolyMatrix) -> Iterator[tuple[str, PolyMatrix]]:
 
 
 def design_zheng_bejarano(
-    sys: DelaySystem, poles: Sequence[Any] | None = None, *, search: bool = True
+    sys: DelaySystem, poles: Sequence[Any] | None = None, *, search: bool = True,
+    report: AssumptionsReport | None = None,
 ) -> DelayUIODesign:
     """Design the delay unknown-input observer of paper 001 (Steps 1–5, with (19′)/(22′)).
 
@@ -375,6 +376,9 @@ def design_zheng_bejarano(
     search
         Try the variants of the choices below and keep the best (default); with
         ``False`` take the ring's Hermite transforms and reduced inverses only.
+    report
+        The :func:`~uio_ring.analysis.check_assumptions` report of ``sys`` when it was
+        computed already (``design_auto`` analyses once); default: computed here.
 
     Returns
     -------
@@ -451,7 +455,8 @@ def design_zheng_bejarano(
     """
     if not isinstance(sys, DelaySystem):
         raise DomainError(f"design_zheng_bejarano needs a DelaySystem, not {type(sys).__name__}")
-    report = check_assumptions(sys)
+    if report is None:
+        report = check_assumptions(sys)
     if not report.holds:
         raise NotObservableError(
             "the Zheng–Bejarano observer does not exist for this system: " + report.reason,

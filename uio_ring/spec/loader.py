@@ -56,9 +56,20 @@ _MATRIX_KEYS = ("A", "B", "C", "D", "E", "F")
 
 
 def schema() -> dict[str, Any]:
-    """The JSON Schema of spec files (shipped as ``uio_ring/spec/schema.json``)."""
+    """The JSON Schema of spec files: ``uio_ring/spec/schema.json`` with the ``design``
+    section generated from the registry of methods (their names and typed options)."""
+    from uio_ring.design.methods import METHODS
+
     text = resources.files("uio_ring.spec").joinpath("schema.json").read_text(encoding="utf-8")
-    return json.loads(text)
+    sch = json.loads(text)
+    props: dict[str, Any] = {"method": {"enum": ["auto", *METHODS], "default": "auto",
+                                        "description": "; ".join(f"{m.name}: {m.summary}" for m in METHODS.values())}}
+    for m in METHODS.values():
+        for opt in m.options:
+            entry = props.setdefault(opt.name, {**opt.schema(), "description": ""})
+            entry["description"] = (entry["description"] + "; " if entry["description"] else "") + f"{m.name}: {opt.doc}"
+    sch["properties"]["design"] = {"type": "object", "additionalProperties": False, "properties": props}
+    return sch
 
 
 @dataclass(frozen=True)
@@ -477,55 +488,25 @@ def _read_system(data: dict[str, Any]) -> Any:
 # design, simulate, output
 # ---------------------------------------------------------------------------------------
 def _read_design(data: dict[str, Any]) -> DesignSpec:
-    from uio_ring.design.methods import METHODS
-    from uio_ring.ring.poly import exact_fraction
+    """``design:`` — the method and its options, read by the registry's option records."""
+    from uio_ring.design.methods import METHODS, get_method
 
     method = data.get("method", "auto")
-    if method != "auto" and method not in METHODS:
-        close = difflib.get_close_matches(str(method), ["auto", *METHODS], n=1)
-        hint = f"; did you mean '{close[0]}'?" if close else ""
-        raise SpecError(f"unknown method {method!r}{hint} (known: auto, {', '.join(METHODS)})", path="design.method")
-    options: dict[str, Any] = {}
-    if data.get("poles") is not None:
-        poles = []
-        for i, v in enumerate(data["poles"]):
-            try:
-                poles.append(exact_fraction(v, f"design.poles[{i}]"))
-            except (DomainError, ParseError) as exc:
-                raise SpecError(f"{v!r} is not an exact rational ({exc})", path=f"design.poles[{i}]") from None
-        options["poles"] = tuple(poles)
-    for key in ("lipschitz", "lambdas"):
-        if data.get(key) is not None:
-            options[key] = tuple(_exact(v, f"design.{key}[{i}]") for i, v in enumerate(data[key]))
-    if data.get("input_bounds") is not None:
-        b = data["input_bounds"]
-        options["input_bounds"] = (
-            tuple(_exact(v, f"design.input_bounds[{i}]") for i, v in enumerate(b))
-            if isinstance(b, list)
-            else _exact(b, "design.input_bounds")
-        )
-    if data.get("gains") is not None:
-        options["gains"] = tuple(
-            tuple(_exact(v, f"design.gains[{i}][{j}]") for j, v in enumerate(row)) for i, row in enumerate(data["gains"])
-        )
-    for key in ("safety", "lipschitz_floor"):
-        if data.get(key) is not None:
-            options[key] = _exact(data[key], f"design.{key}")
-    if data.get("reconstruct_input") is not None:
-        options["reconstruct_input"] = bool(data["reconstruct_input"])
     if method != "auto":
-        allowed = set(METHODS[method].options)
-        extra = sorted(set(options) - allowed)
-        if extra:
-            raise SpecError(
-                f"option(s) {', '.join(extra)} do not apply to method {method!r} "
-                f"(its options: {', '.join(METHODS[method].options)})",
-                path=f"design.{extra[0]}",
-            )
-        missing = [k for k in METHODS[method].required if k not in options]
-        if missing:
-            raise SpecError(f"method {method!r} needs {', '.join(missing)}", path=f"design.{missing[0]}")
-    return DesignSpec(method=method, options=options)
+        get_method(method)  # SpecError at design.method, with a suggestion
+    raw = {k: v for k, v in data.items() if k != "method" and v is not None}
+    if method != "auto":
+        return DesignSpec(method=method, options=METHODS[method].read_options(raw))
+    # auto: every key must belong to some method; each is read by the first method that has it
+    owners = {}
+    for m in METHODS.values():
+        for opt in m.options:
+            owners.setdefault(opt.name, opt)
+    unknown = sorted(set(raw) - set(owners))
+    if unknown:
+        raise SpecError(f"option {unknown[0]!r} belongs to no design method (known: {', '.join(owners)})",
+                        path=f"design.{unknown[0]}")
+    return DesignSpec(method=method, options={k: owners[k].read(v, f"design.{k}") for k, v in raw.items()})
 
 
 def _exact(value: Any, path: str) -> Fraction:
