@@ -30,7 +30,7 @@ def steps_per_delay(h: float, dt: float) -> int:
     >>> steps_per_delay(0.01, 0.003)
     Traceback (most recent call last):
     ...
-    uio_ring.sim.errors.SimulationError: dt=0.003 is not h/N for a positive integer N (h=0.01, h/dt = 3.333…): use N = 3 (dt = 0.00333333) or N = 4 (dt = 0.0025)
+    uio_ring.errors.SimulationError: dt=0.003 is not h/N for a positive integer N (h=0.01, h/dt = 3.333…): use N = 3 (dt = 0.00333333) or N = 4 (dt = 0.0025)
     """
     ratio = h / dt
     N = round(ratio)

@@ -6,9 +6,9 @@ polynomial matrix ``M(δ) = Σ_i M_i δ^i``; applied to samples it reads the sig
 
 >>> import numpy as np
 >>> M = np.array([[[1.0]], [[2.0]]])                # 1 + 2δ
->>> S = np.arange(6.0)[:, None]                      # s(t_j) = j, offset 2
->>> delayed_sum(M, S, 0, 3, 2, 2)[:, 0]              # s(t_j) + 2 s(t_j − h), N = 2
-array([2., 5., 8., 11.])
+>>> S = np.arange(6.0)[:, None]                      # rows: S[2 + j] = s(t_j) = j + 2
+>>> delayed_sum(M, S, 0, 3, 2, 2)[:, 0].tolist()     # s(t_j) + 2 s(t_j − h), N = 2
+[2.0, 5.0, 8.0, 11.0]
 """
 
 from __future__ import annotations
