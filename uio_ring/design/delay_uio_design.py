@@ -7,7 +7,7 @@ The observer (21) with the corrected gains (22′) of shared/ERRATA.md::
     x̂  = T_L⁻¹(δ) ẑ
 
 Built by :func:`uio_ring.design.zheng_bejarano.design_zheng_bejarano`; the
-numeric side (:mod:`uio_ring.sim`) reads ``L0, J, H, Lam, T, T_left_inverse,
+float model (:meth:`DelayUIODesign.numeric`) reads ``L0, J, H, Lam, T, T_left_inverse,
 n_z, lag`` (and ``J_u, H_u`` for known inputs).
 
 >>> from uio_ring import DelaySystem, design_zheng_bejarano
