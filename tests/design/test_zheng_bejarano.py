@@ -83,7 +83,7 @@ def test_paper_choices_reproduce_the_printed_matrices(paper_choices):
     d = paper_choices
     assert d.certificate().ok, str(d.certificate())
     assert d.W == P.W and d.A_bar == P.A_BAR and d.C_tilde == P.C_TILDE
-    assert d.C_bar == P.C_BAR and d.O == P.O3 and d.F == P.F and d.T == P.T
+    assert d.C_bar == P.C_BAR and d.O == P.O3 and d.F_stack == P.F and d.T == P.T
     assert PolyMatrix.hstack(d.K1_bar, d.K2_bar) == P.K_BAR
     assert PolyMatrix.hstack(d.Gamma1_bar, d.Gamma2_bar) == P.GAMMA_BAR
     assert d.H == P.H and d.L0 == P.L0 and d.G0 == P.G0
@@ -185,7 +185,7 @@ def test_known_input_terms_certified():
 # -- the object ----------------------------------------------------------------------------------
 def test_attribute_names(paper_design):
     names = ("U V Vbar W K Gamma K1 K2 Gamma1 Gamma2 A_bar C_tilde Lam C_bar r l_star O "
-             "O_left_inverse F T T_left_inverse A0 C0 K1_bar K2_bar Gamma1_bar Gamma2_bar G0 L0 "
+             "O_left_inverse F_stack T T_left_inverse A0 C0 K1_bar K2_bar Gamma1_bar Gamma2_bar G0 L0 "
              "H J n_z lag").split()
     for name in names:
         assert hasattr(paper_design, name), name

@@ -73,8 +73,8 @@ def test_wrong_H_breaks_22_and_theorem_4(design):
 
 
 def test_wrong_F_breaks_theorem_2(design):
-    F = design.F + _unit(design.n_z, design.r, 0, 0)
-    assert "Theorem 2: T Ā = A0 T + F C̄" in _failed(design, F=F)
+    F = design.F_stack + _unit(design.n_z, design.r, 0, 0)
+    assert "Theorem 2: T Ā = A0 T + F C̄" in _failed(design, F_stack=F)
 
 
 def test_shape_errors_become_failed_checks(design):

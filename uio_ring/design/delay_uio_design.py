@@ -58,7 +58,8 @@ class DelayUIODesign(ObserverDesign):
     Step 2: ``A_bar = A − K [CA; C]``, ``C_tilde = C − Gamma [CA; C]``,
     ``Lam C_tilde = [C_bar; 0]`` with ``r = rank C_tilde``.
     Step 3: ``O = Ō_{l*} = [C_bar; C_bar A_bar; …]`` left unimodular,
-    ``[F_{l*}, …, F_1] = C_bar A_bar^{l*} O_left_inverse`` (16), ``F = [F_1; …; F_{l*}]``,
+    ``[F_{l*}, …, F_1] = C_bar A_bar^{l*} O_left_inverse`` (16), ``F_stack = [F_1; …; F_{l*}]``
+    (the paper's F; renamed so that ``F`` always means the system's known-input feed-through),
     ``T`` from (15) and ``T_left_inverse`` with ``T_left_inverse T = I``.
     Step 4: ``A0``, ``C0`` (14), ``Gamma{1,2}_bar = Lam Gamma{1,2} Lam⁻¹`` (11),
     ``K{1,2}_bar = T K{1,2} Lam⁻¹`` (20).
@@ -92,7 +93,7 @@ class DelayUIODesign(ObserverDesign):
     l_star: int
     O: PolyMatrix
     O_left_inverse: PolyMatrix
-    F: PolyMatrix
+    F_stack: PolyMatrix
     T: PolyMatrix
     T_left_inverse: PolyMatrix
     A0: PolyMatrix
@@ -122,9 +123,9 @@ class DelayUIODesign(ObserverDesign):
         return max(0, self.T_left_inverse.degree())
 
     def F_blocks(self) -> tuple[PolyMatrix, ...]:
-        """``(F_1, …, F_{l*})``, the ``r × r`` blocks of ``F`` (F_1 on top)."""
+        """``(F_1, …, F_{l*})``, the ``r × r`` blocks of ``F_stack`` (F_1 on top)."""
         r = self.r
-        return tuple(self.F[i * r : (i + 1) * r, 0:r] for i in range(self.l_star))
+        return tuple(self.F_stack[i * r : (i + 1) * r, 0:r] for i in range(self.l_star))
 
     def certificate(self) -> Certificate:
         """Every identity of Steps 1–5 and Theorem 4, checked exactly (see
@@ -199,7 +200,7 @@ class DelayUIODesign(ObserverDesign):
 
     _MATRICES: ClassVar[tuple[str, ...]] = (
         "U", "V", "Vbar", "W", "K", "Gamma", "K1", "K2", "Gamma1", "Gamma2", "A_bar", "C_tilde",
-        "Lam", "Lam_inverse", "C_bar", "O", "O_left_inverse", "F", "T", "T_left_inverse", "A0",
+        "Lam", "Lam_inverse", "C_bar", "O", "O_left_inverse", "F_stack", "T", "T_left_inverse", "A0",
         "C0", "K1_bar", "K2_bar", "Gamma1_bar", "Gamma2_bar", "G0", "L0", "H", "J", "H_u", "J_u",
     )
 

@@ -89,7 +89,15 @@ def _read_poles(poles: Sequence[Any] | None, l_star: int) -> tuple[Fraction, ...
     return values
 
 
-def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> tuple[int, PolyMatrix] | None:
+@dataclass(frozen=True)
+class _ObservabilityIndex:
+    """Step 3: the least ``l*`` with ``Ō_{l*}`` left unimodular, and ``O = Ō_{l*}``."""
+
+    l_star: int
+    O: PolyMatrix
+
+
+def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> _ObservabilityIndex | None:
     """Least ``l`` with ``Ō_l = [C̄; C̄Ā; …; C̄Ā^{l−1}]`` left unimodular, and ``Ō_l``.
 
     ``None`` when there is none: by Cayley–Hamilton over Q[δ] the row module of
@@ -115,7 +123,7 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> tuple[
             continue
         O = PolyMatrix.vstack(*blocks)
         if is_left_unimodular(O):
-            return l, O
+            return _ObservabilityIndex(l, O)
     return None
 
 
@@ -172,8 +180,8 @@ def _assemble(
     s12: _Step12,
     Lam: PolyMatrix,
     *,
-    l_and_O: tuple[int, PolyMatrix] | None = None,
-    F: PolyMatrix | None = None,
+    index: _ObservabilityIndex | None = None,
+    F_stack: PolyMatrix | None = None,
     O_left_inverse: PolyMatrix | None = None,
     T_left_inverse: PolyMatrix | None = None,
     poles: Sequence[Any] | None = None,
@@ -193,16 +201,17 @@ def _assemble(
     C_bar = LC[0:r, 0:n]
     if not LC[r:p, 0:n].is_zero():
         raise DimensionError(f"Λ C̃ must be [C̄; 0] with C̄ of {r} rows (= rank C̃); its last rows are not zero")
-    if l_and_O is None:
-        l_and_O = _observability_index(A_bar, C_bar, n)
-        if l_and_O is None:  # pragma: no cover - excluded by Theorem 3 under Assumptions 1, 2
+    if index is None:
+        index = _observability_index(A_bar, C_bar, n)
+        if index is None:  # pragma: no cover - excluded by Theorem 3 under Assumptions 1, 2
             raise UioRingError(
                 "no l* with Ō_l left unimodular although Assumptions 1 and 2 hold "
                 "(contradicts Theorem 3 of paper 001); please report this system"
             )
-    l_star, O = l_and_O
+    l_star, O = index.l_star, index.O
     if O_left_inverse is None:
         O_left_inverse = left_inverse(O)
+    F = F_stack
     if F is None:
         F = _F_from_row(C_bar @ (A_bar**l_star) @ O_left_inverse, r, l_star)
     T = _normal_form_T(A_bar, C_bar, F, l_star)
@@ -224,7 +233,7 @@ def _assemble(
     return DelayUIODesign(
         system=sys, U=s12.U, V=s12.V, Vbar=s12.Vbar, W=W, K=K, Gamma=Gamma, K1=K1, K2=K2,
         Gamma1=G1, Gamma2=G2, A_bar=A_bar, C_tilde=C_tilde, Lam=Lam, Lam_inverse=Lam_inv,
-        C_bar=C_bar, r=r, l_star=l_star, O=O, O_left_inverse=O_left_inverse, F=F, T=T,
+        C_bar=C_bar, r=r, l_star=l_star, O=O, O_left_inverse=O_left_inverse, F_stack=F, T=T,
         T_left_inverse=T_left_inverse, A0=A0, C0=C0, K1_bar=K1b, K2_bar=K2b, Gamma1_bar=G1b,
         Gamma2_bar=G2b, poles=vals, G0=G0, L0=L0, H=H, J=J, H_u=H_u, J_u=J_u, choice=choice,
         assumptions=assumptions,
@@ -466,9 +475,46 @@ def design_zheng_bejarano(
     rho, Us = _candidate_Us(sys)
     if not search:
         Us = Us[:1]
-    # --- stage 1: n_z = r·l* for each U (with pruning) ---
+    candidates = _smallest_observers(sys, Us, rho)
+    finalists = _with_requested_poles(candidates, poles)
+    best = _least_lag_assembly(sys, finalists, _assembly_budget(sys) if search else 1)
+    return _assemble(
+        sys, best.steps12, best.Lam, index=best.index, F_stack=best.F_stack, O_left_inverse=best.O_left_inverse,
+        T_left_inverse=best.T_left_inverse, poles=poles, choice=best.choice, assumptions=report,
+    )
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    """Stage 1 of the search: one Step-1 transform U and the observer order it gives."""
+
+    n_z: int
+    order: int  # position of U in the list tried (ties are broken by it)
+    label: str
+    steps12: _Step12
+    index: _ObservabilityIndex
+
+
+@dataclass(frozen=True)
+class _Assembly:
+    """Stage 2 of the search: one (U, Λ, F) combination with its T_L⁻¹ and its lag."""
+
+    key: tuple[int, int, int]  # (lag = deg T_L⁻¹, deg T, deg F): smaller is better
+    steps12: _Step12
+    Lam: PolyMatrix
+    index: _ObservabilityIndex
+    F_stack: PolyMatrix
+    O_left_inverse: PolyMatrix
+    T_left_inverse: PolyMatrix
+    choice: str
+
+
+def _smallest_observers(sys: DelaySystem, Us: list[tuple[str, PolyMatrix]], rho: int) -> list[_Candidate]:
+    """Stage 1: Steps 1–3 for each U (pruning orders above the best so far); the
+    candidates of the smallest ``n_z = r·l*``."""
+    n = sys.n_x
     best_nz: int | None = None
-    scored: list[tuple[int, int, str, _Step12, tuple[int, PolyMatrix]]] = []
+    scored: list[_Candidate] = []
     seen: list[tuple[PolyMatrix, PolyMatrix]] = []
     for idx, (label, U) in enumerate(Us):
         s12 = _steps_1_2(sys, U, rho)
@@ -479,41 +525,46 @@ def design_zheng_bejarano(
         if r == 0:
             continue
         if best_nz is not None and r * (-(-n // r)) > best_nz:
-            continue
+            continue  # even the least l* cannot beat the best order
         C_bar = hermite(s12.C_tilde).H[0:r, 0:n]
-        lo = _observability_index(s12.A_bar, C_bar, n)
-        if lo is None:  # pragma: no cover - Theorem 3
+        index = _observability_index(s12.A_bar, C_bar, n)
+        if index is None:  # pragma: no cover - Theorem 3
             continue
-        nz = r * lo[0]
-        if best_nz is None or nz < best_nz:
-            best_nz = nz
-        scored.append((nz, idx, label, s12, lo))
+        nz = r * index.l_star
+        best_nz = nz if best_nz is None else min(best_nz, nz)
+        scored.append(_Candidate(nz, idx, label, s12, index))
     if best_nz is None:  # pragma: no cover - Theorem 3
         raise UioRingError(
             "no choice of U gave a left-unimodular Ō_l although Assumptions 1 and 2 hold "
             "(contradicts Theorem 3 of paper 001); please report this system"
         )
-    finalists = [c for c in scored if c[0] == best_nz]
-    if poles is not None:
-        count = len(_read_poles(poles, len(poles) if isinstance(poles, Sequence) else 0))
-        matching = [c for c in finalists if c[4][0] == count]
-        if not matching:
-            options = sorted({c[4][0] for c in finalists})
-            raise DimensionError(
-                f"poles has {count} value(s); expected l* = "
-                + " or ".join(str(o) for o in options)
-                + f" (the spectrum of A0 − G0 C0 on each output channel; the smallest observer, "
-                f"n_z = {best_nz}, has l* = {' or '.join(str(o) for o in options)})"
-            )
-        finalists = matching
-    # --- stage 2: lag for the finalists (T and T_L⁻¹ only; the winner is assembled) ---
-    finalists.sort(key=lambda c: (c[3].A_bar.degree() + c[3].C_tilde.degree(), c[1]))
-    budget = _assembly_budget(sys) if search else 1
-    best: tuple[tuple[int, int, int], tuple[Any, ...]] | None = None
+    return [c for c in scored if c.n_z == best_nz]
+
+
+def _with_requested_poles(candidates: list[_Candidate], poles: Sequence[Any] | None) -> list[_Candidate]:
+    """The candidates whose ``l*`` equals the number of requested poles (all when none are given)."""
+    if poles is None:
+        return candidates
+    count = len(_read_poles(poles, len(poles) if isinstance(poles, Sequence) else 0))
+    matching = [c for c in candidates if c.index.l_star == count]
+    if not matching:
+        options = " or ".join(str(o) for o in sorted({c.index.l_star for c in candidates}))
+        raise DimensionError(
+            f"poles has {count} value(s); expected l* = {options} (the spectrum of A0 − G0 C0 on each "
+            f"output channel; the smallest observer, n_z = {candidates[0].n_z}, has l* = {options})"
+        )
+    return matching
+
+
+def _least_lag_assembly(sys: DelaySystem, finalists: list[_Candidate], budget: int) -> _Assembly:
+    """Stage 2: for the finalists, each output compression Λ and each way to read F off (16),
+    T and its reduced left inverse; the combination of least lag (within ``budget``)."""
+    n = sys.n_x
+    finalists = sorted(finalists, key=lambda c: (c.steps12.A_bar.degree() + c.steps12.C_tilde.degree(), c.order))
+    best: _Assembly | None = None
     tried = 0
-    for _, _, label, s12, (l_star, _) in finalists:
-        if tried >= budget:
-            break
+    for cand in finalists:
+        s12, l_star = cand.steps12, cand.index.l_star
         r = s12.C_tilde.rank()
         for lam_label, Lam in _lambda_choices(s12.C_tilde):
             if tried >= budget:
@@ -524,11 +575,7 @@ def design_zheng_bejarano(
                 rows.append(rows[-1] @ s12.A_bar)
             O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
             OL = left_inverse(O)
-            variants = (
-                "F reduced modulo the left kernel of Ō",
-                "F by (16) with the reduced left inverse of Ō",
-            )
-            for f_label in variants:
+            for f_label in ("F reduced modulo the left kernel of Ō", "F by (16) with the reduced left inverse of Ō"):
                 if tried >= budget:
                     break
                 tried += 1
@@ -537,15 +584,14 @@ def design_zheng_bejarano(
                 T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
                 TL = left_inverse(T)
                 key = (max(0, TL.degree()), T.degree(), F.degree())
-                if best is None or key < best[0]:
-                    choice = f"{label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T"
-                    best = (key, (s12, Lam, (l_star, O), F, OL, TL, choice))
-    assert best is not None  # finalists is not empty and budget ≥ 1
-    s12, Lam, lO, F, OL, TL, choice = best[1]
-    return _assemble(
-        sys, s12, Lam, l_and_O=lO, F=F, O_left_inverse=OL, T_left_inverse=TL, poles=poles,
-        choice=choice, assumptions=report,
-    )
+                if best is None or key < best.key:
+                    choice = f"{cand.label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T"
+                    best = _Assembly(key, s12, Lam, _ObservabilityIndex(l_star, O), F, OL, TL, choice)
+        if tried >= budget:
+            break
+    if best is None:  # pragma: no cover - finalists is not empty and budget ≥ 1
+        raise UioRingError("the design search evaluated no combination (budget 0?)")
+    return best
 
 
 def _assembly_budget(sys: DelaySystem) -> int:

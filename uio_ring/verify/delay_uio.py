@@ -138,7 +138,7 @@ def delay_uio_certificate(design: Any) -> Certificate:
 
     add("(12): Ō_{l*} left unimodular", "Ō_{l*} = [C̄; …; C̄Ā^{l*−1}] left unimodular, Ō_L⁻¹ Ō = I", obs)
     add("Theorem 2: T Ā = A0 T + F C̄", "z = T x brings (13) to the normal form",
-        lambda: {"T Ā − A0 T − F C̄": d.T @ d.A_bar - d.A0 @ d.T - d.F @ d.C_bar})
+        lambda: {"T Ā − A0 T − F C̄": d.T @ d.A_bar - d.A0 @ d.T - d.F_stack @ d.C_bar})
     add("Theorem 2: C0 T = C̄", "output of the normal form",
         lambda: {"C0 T − C̄": d.C0 @ d.T - d.C_bar})
     add("(15): T_L⁻¹ T = I", "T is a bicausal generalised change of coordinates",
@@ -154,7 +154,7 @@ def delay_uio_certificate(design: Any) -> Certificate:
         })
 
     nz, r = d.T.rows, d.r
-    F0 = PolyMatrix.hstack(d.F, _Z(nz, p - r))
+    F0 = PolyMatrix.hstack(d.F_stack, _Z(nz, p - r))
     L = d.Lam
 
     def nf_state() -> Any:
@@ -183,7 +183,7 @@ def delay_uio_certificate(design: Any) -> Certificate:
 
     # Step 5 ---------------------------------------------------------------------
     def gains() -> Any:
-        FG0 = PolyMatrix.hstack(d.F + d.G0, _Z(nz, p - r))
+        FG0 = PolyMatrix.hstack(d.F_stack + d.G0, _Z(nz, p - r))
         H = d.K1_bar - FG0 @ d.Gamma1_bar
         return {
             "L0 − (A0 − G0 C0)": d.L0 - (d.A0 - d.G0 @ d.C0),
