@@ -30,18 +30,10 @@ FORMAT_VERSION = 1
 
 
 def _design_classes() -> dict[str, type]:
-    import uio_ring.design.normal_form  # noqa: F401  (registers the subclasses)
-    import uio_ring.design.zheng_bejarano  # noqa: F401
-    from uio_ring.design.base import ObserverDesign
+    """``{method name: design class}`` from the registry of methods."""
+    from uio_ring.design.methods import METHODS
 
-    out: dict[str, type] = {}
-    stack = list(ObserverDesign.__subclasses__())
-    while stack:
-        cls = stack.pop()
-        stack.extend(cls.__subclasses__())
-        if getattr(cls, "method", ""):
-            out[cls.method] = cls
-    return out
+    return {name: m.design_class for name, m in METHODS.items()}
 
 
 def _encode(value: Any) -> Any:
