@@ -137,26 +137,44 @@ def _run_simulate(args: argparse.Namespace) -> int:
         raise SpecError("the spec has no 'simulate' section (t_final, dt, inputs)", path="simulate")
     design, method, skipped = _design(spec)
     cert = design.certificate()
-    _print_design(spec, design, method, skipped, cert, True)
+    _print_design(spec, design, method, skipped, cert, args.quiet)
     sim = spec.simulate
     result = _simulate(design, spec, args.progress)
     out = _out_dir(args, spec)
     out.mkdir(parents=True, exist_ok=True)
     stem = out / (spec.name or "simulation")
-    paths = save_design(design, stem, formats=("json",))
-    paths.append(_write_signals(result, stem, npz=args.npz or "npz" in spec.output.formats))
-    if not args.no_plot:
+    formats = _simulation_formats(spec.output.formats, npz=args.npz, plot=not args.no_plot)
+    design_formats = [f for f in ("json", "yaml", "latex") if f in formats]
+    paths = save_design(design, stem, formats=design_formats) if design_formats else []
+    for kind in ("csv", "npz"):
+        if kind in formats:
+            paths.append(_write_signals(result, stem, npz=kind == "npz"))
+    if "png" in formats:
         paths.append(_write_plot(result, stem, spec.name))
     t = result.t
     settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2
     err = np.max(np.abs(result.error), axis=0)
     after = err[t >= settle]
-    print(
-        f"{spec.name}: simulated {t[-1]:g} s with dt = {float(sim.dt):g} ({len(t) - 1} steps); "
-        f"final error {err[-1]:.3g}, max error after t = {settle:g} s: {after.max() if after.size else float('nan'):.3g}"
-    )
+    line = (f"{spec.name}: simulated {t[-1]:g} s with dt = {float(sim.dt):g} ({len(t) - 1} steps); "
+            f"final error {err[-1]:.3g}, max error after t = {settle:g} s: {after.max() if after.size else 0.0:.3g}")
+    if result.w_hat is not None:
+        w_err = np.max(np.abs(result.w - result.w_hat), axis=0)[t >= settle]
+        line += f"; max |w − ŵ| after t = {settle:g} s: {w_err.max() if w_err.size else 0.0:.3g}"
+    print(line)
     print("wrote " + ", ".join(str(p) for p in paths))
     return 0 if cert.ok else 1
+
+
+def _simulation_formats(requested: Any, *, npz: bool, plot: bool) -> set[str]:
+    """What ``simulate`` writes: the spec's ``output.formats`` when given (design: json, yaml,
+    latex; signals: csv, npz; plot: png), else json + csv + png; ``--npz`` swaps csv for npz,
+    ``--no-plot`` drops png."""
+    formats = set(requested) if requested else {"json", "csv", "png"}
+    if npz:
+        formats = (formats - {"csv"}) | {"npz"}
+    if not plot:
+        formats.discard("png")
+    return formats
 
 
 def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
