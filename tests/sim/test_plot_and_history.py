@@ -84,8 +84,12 @@ def test_plot_observer_and_plant(paper_design):
 
     r = simulate_observer(paper_design, h=0.01, t_final=0.2, dt=0.001, w=paper_w, x0=[1, 0, 0, 0])
     fig = r.plot(figsize=(6, 4))
-    ax_err = fig.axes[1]
-    assert ax_err.get_yscale() == "log" and len(fig.axes[0].lines) == 8
+    ax_x, ax_w, ax_err = fig.axes
+    # 4 states + 4 estimates + 2 style keys; w1, w2 (not reconstructed); 4 errors + the lag line
+    assert len(ax_x.lines) == 10 and len(ax_w.lines) == 2
+    assert ax_err.get_yscale() == "log" and len(ax_err.lines) == 5
+    lo, hi = ax_err.get_ylim()
+    assert hi / lo <= 10.0 ** 13  # limited to the meaningful range
     p = simulate(paper_design.system, h=0.01, t_final=0.2, dt=0.001, w=paper_w).plot()
     assert len(p.axes[1].lines) == 3
     plt.close("all")
