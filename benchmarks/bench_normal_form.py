@@ -35,7 +35,6 @@ for p in (ROOT, ROOT / "tests"):
     if str(p) not in sys.path:
         sys.path.insert(0, str(p))
 
-import numpy as np  # noqa: E402
 
 from uio_ring import DelaySystem, design_normal_form, normal_form_applicable  # noqa: E402
 

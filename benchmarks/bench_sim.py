@@ -46,9 +46,9 @@ from sys import path as sys_path
 import numpy as np
 
 from uio_ring import DelaySystem, design_zheng_bejarano
-from uio_ring.sim import simulate
 from uio_ring.numeric.convert import coefficient_arrays, poly_matmul
 from uio_ring.numeric.taps import delayed_sum
+from uio_ring.sim import simulate
 
 PAPER = dict(
     A="[[0,-1,1,0],[-1,d,0,0],[1,0,1,0],[d,1,1,-1]]",

@@ -8,8 +8,8 @@ import sys
 import numpy as np
 import pytest
 
-from uio_ring.sim import HistoryBuffer, SimulationError, simulate, simulate_observer
 from uio_ring.numeric.expint import LinearScan, stencil_weights
+from uio_ring.sim import HistoryBuffer, SimulationError, simulate, simulate_observer
 from uio_ring.sim.errors import DimensionError
 
 from .conftest import paper_w

@@ -130,7 +130,7 @@ def register_method(method: DesignMethod) -> None:
         raise ValueError(f"design method {method.name!r} is already registered")  # noqa: TRY003
     if getattr(method.design_class, "method", method.name) != method.name:
         raise ValueError(  # noqa: TRY003
-            f"design method {method.name!r}: its design class spells it {method.design_class.method!r}"
+            f"design method {method.name!r}: its design class spells it {getattr(method.design_class, 'method', '')!r}"
         )
     METHODS[method.name] = method
 

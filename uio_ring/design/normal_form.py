@@ -217,7 +217,11 @@ class NormalFormDesign(ObserverDesign):
         >>> design_normal_form(DelaySystem("[[0, 1], [-2, -3]]", "[[0], [1]]", "[[1, 0]]", None), [1]).numeric()
         ObserverModel(normal-form: n_z=2, n_y=1, n_u=0, n_x=2, n_w=0, lag=0, injection=implicit)
         """
-        from uio_ring.numeric.build import held_input_from_exact, injection_from_exact, model_from_exact
+        from uio_ring.numeric.build import (
+            held_input_from_exact,
+            injection_from_exact,
+            model_from_exact,
+        )
 
         sysm, n_u, n_y, p = self.system, self.system.n_u, self.system.n_y, len(self.mu)
         B_u, B_y0 = self.B_bar[:, :n_u], self.B_bar[:, n_u:]

@@ -471,7 +471,6 @@ def design_zheng_bejarano(
             "the Zheng–Bejarano observer does not exist for this system: " + report.reason,
             report=report,
         )
-    n = sys.n_x
     rho, Us = _candidate_Us(sys)
     if not search:
         Us = Us[:1]

@@ -47,13 +47,11 @@ def model_from_exact(*, F: Any, G_y: Any, X: Any, G_u: Any = None, D_y: Any = No
                      held_input: HeldInput | None = None, interpolation: str = "cubic", guard_blocks: int = 0,
                      z_of_x: Any = None, method: str = "") -> ObserverModel:
     """:class:`ObserverModel` from exact matrices (``PolyMatrix``; ``F`` and ``initial`` constant)."""
-    stacks = {name: None if M is None else coefficient_arrays(M, name=f"{method}.{name}")
+    stacks: dict[str, Any] = {name: None if M is None else coefficient_arrays(M, name=f"{method}.{name}")
               for name, M in (("G_y", G_y), ("X", X), ("G_u", G_u), ("D_y", D_y), ("D_u", D_u), ("W", W),
                               ("z_of_x", z_of_x))}
     delayed = any(a is not None and a.shape[0] > 1 for a in stacks.values())
-    hv = _h(h) if delayed else None
-    if delayed and hv is None:
-        raise SimulationError(f"the {method or 'observer'} model has delayed taps: give h (the basic delay)")
+    hv = _h(h) if delayed else None  # a delayed model without h can be exported, not stepped
     return ObserverModel(
         F=constant_array(F, f"{method}.F"), **stacks,
         initial=None if initial is None else constant_array(initial, f"{method}.initial"),

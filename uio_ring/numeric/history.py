@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from uio_ring.numeric.grid import as_float, steps_per_delay
 from uio_ring.errors import DimensionError, SimulationError
+from uio_ring.numeric.grid import as_float, steps_per_delay
 
 __all__ = ["HistoryBuffer", "sample_history", "sample_signal"]
 

@@ -179,8 +179,6 @@ class ObserverModel:
         put(self, "initial", init)
         if self.interpolation not in INTERPOLATIONS:
             raise SimulationError(f"interpolation={self.interpolation!r}; expected one of {INTERPOLATIONS}")
-        if self.h is None and self.max_delay > 0:
-            raise SimulationError("ObserverModel: delayed taps need h (the basic delay)")
         if self.h is not None and not (np.isfinite(self.h) and self.h > 0):
             raise SimulationError(f"ObserverModel.h = {self.h!r} must be a positive number")
 
@@ -230,6 +228,105 @@ class ObserverModel:
         from dataclasses import replace
 
         return replace(self, injection=self.injection.with_discretisation(discretisation))
+
+    # -- hand-over to other tools -----------------------------------------------------------
+    _STACKS = ("G_y", "G_u", "D_y", "D_u", "X", "W", "z_of_x")
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (floats; stacks as nested lists ``[M_0, M_1, …]``, ``M_i`` the coefficient
+        of ``δ^i``); :meth:`from_dict` reads it back.  The injection term and the held-input
+        copy are included.
+
+        >>> import numpy as np
+        >>> m = ObserverModel(F=[[-1.0]], G_y=[[[1.0]], [[0.5]]], X=[[[1.0]]], h=0.1)
+        >>> d = m.to_dict(); d["G_y"], d["h"]
+        ([[[1.0]], [[0.5]]], 0.1)
+        >>> ObserverModel.from_dict(d).G_y[1, 0, 0]
+        np.float64(0.5)
+        """
+        out: dict[str, Any] = {
+            "format": "uio_ring observer model 1",
+            "equations": "xi' = F xi + G_y(d) y + G_u(d) u + l(sigma); z = xi + D_y(d) y + D_u(d) u; "
+                         "x_hat = X(d) z; w_hat = W(d) z; d^i s(t) = s(t - i h)",
+            "method": self.method, "h": self.h, "F": self.F.tolist(), "initial": self.initial.tolist(),
+            "interpolation": self.interpolation, "guard_blocks": self.guard_blocks,
+        }
+        for name in self._STACKS:
+            a = getattr(self, name)
+            out[name] = None if a is None else a.tolist()
+        out["shapes"] = {name: list(getattr(self, name).shape) for name in self._STACKS
+                         if getattr(self, name) is not None}
+        inj = self.injection
+        out["injection"] = None if inj is None else {
+            "kind": "levant", "starts": list(inj.starts), "lengths": list(inj.lengths),
+            "gains": [list(g) for g in inj.gains], "sigma_y": inj.sigma_y.tolist(),
+            "sigma_u": inj.sigma_u.tolist(), "discretisation": inj.discretisation,
+        }
+        hi = self.held_input
+        out["held_input"] = None if hi is None else {"A": hi.A.tolist(), "B": hi.B.tolist(), "M": hi.M.tolist()}
+        return out
+
+    @classmethod
+    def from_dict(cls, data: Any) -> ObserverModel:
+        """The model written by :meth:`to_dict` (shapes restored for empty stacks)."""
+        if not isinstance(data, dict) or not str(data.get("format", "")).startswith("uio_ring observer model"):
+            raise SimulationError("not a uio_ring observer model (no 'format: uio_ring observer model …')")
+        shapes = data.get("shapes", {})
+
+        def stack(name: str) -> Any:
+            v = data.get(name)
+            if v is None:
+                return None
+            return np.asarray(v, dtype=float).reshape(shapes.get(name, np.shape(v)))
+
+        inj = data.get("injection")
+        n_u = stack("G_u").shape[-1] if stack("G_u") is not None else 0
+        injection = None if inj is None else LevantInjection(
+            starts=tuple(inj["starts"]), lengths=tuple(inj["lengths"]),
+            gains=tuple(tuple(g) for g in inj["gains"]), sigma_y=np.asarray(inj["sigma_y"], float),
+            sigma_u=np.asarray(inj["sigma_u"], float).reshape(len(inj["starts"]), n_u),
+            discretisation=inj["discretisation"],
+        )
+        hi = data.get("held_input")
+        held = None if hi is None else HeldInput(*(np.asarray(hi[k], float) for k in "ABM"))
+        return cls(
+            F=np.asarray(data["F"], float), G_y=stack("G_y"), X=stack("X"), G_u=stack("G_u"), D_y=stack("D_y"),
+            D_u=stack("D_u"), W=stack("W"), h=data.get("h"), initial=np.asarray(data["initial"], float),
+            injection=injection, held_input=held, interpolation=data.get("interpolation", "cubic"),
+            guard_blocks=int(data.get("guard_blocks", 0)), z_of_x=stack("z_of_x"), method=data.get("method", ""),
+        )
+
+    def to_control(self) -> Any:
+        """A python-control ``StateSpace`` of a linear, delay-free observer: input ``[y; u]``,
+        output ``x̂`` (and ``ŵ`` below it when the model reconstructs w), state ``ξ``.
+
+        Needs the optional dependency ``control`` (``pip install 'uio-ring[control]'``).
+
+        Raises
+        ------
+        NotSupportedError
+            For observers with delayed taps (no finite-dimensional state space) or with a
+            nonlinear injection term (sliding-mode / differentiator observers).
+        """
+        from uio_ring.errors import NotSupportedError, require
+
+        if self.injection is not None:
+            raise NotSupportedError(f"to_control: the {self.method or 'observer'} model has a nonlinear "
+                                    "injection term (it is not a linear system)")
+        if not self.is_delay_free:
+            raise NotSupportedError(f"to_control: the {self.method or 'observer'} model has delayed taps "
+                                    f"(δ-degree {self.max_delay}); use to_dict() for its realisation")
+        control = require("control", extra="control")
+
+        def first(a: np.ndarray, rows: int, cols: int) -> np.ndarray:
+            return a[0] if a.shape[0] else np.zeros((rows, cols))
+
+        nz, ny, nu = self.n_z, self.n_y, self.n_u
+        B = np.hstack([first(self.G_y, nz, ny), first(self.G_u, nz, nu)])
+        Dz = np.hstack([first(self.D_y, nz, ny), first(self.D_u, nz, nu)])
+        outs = [first(self.X, self.n_x, nz)] + ([first(self.W, self.n_w, nz)] if self.W is not None else [])
+        C = np.vstack(outs)
+        return control.ss(self.F, B, C, C @ Dz)
 
     def stepper(self, dt: Any, **options: Any) -> Any:
         """The discrete observer with step ``dt``: ``start``, ``step``, ``run``

@@ -200,6 +200,9 @@ class ObserverStepper:
             model = model.with_discretisation(discretisation)
         self.model = model
         dtv = as_float(dt, "dt")
+        if model.h is None and model.max_delay > 0:
+            raise SimulationError("the model has delayed taps but no h (the basic delay): "
+                                  "design.numeric(h=…)")
         if model.h is None:
             self.h, self.N = dtv, 1
         else:
@@ -498,7 +501,7 @@ class ObserverStepper:
         Xi[0] = xi
         Phi, Kl, F, dt, method = self.Phi, self.Kl, self.model.F, self.dt, inj.method
         starts = list(inj.starts)
-        Fq = self._forcing_table(G, T) if T > 1 else None
+        Fq = self._forcing_table(G, T) if T > 1 else np.zeros((0, self.n_z))
         for k in range(1, T):
             if method == "implicit":
                 xi = inj.implicit(Phi @ xi + Fq[k - 1], Meas[k])

@@ -433,6 +433,34 @@ class PolyMatrix:
     def _repr_latex_(self) -> str:
         return f"${self.to_latex()}$"
 
+    def to_numpy(self) -> Any:
+        """The coefficient stack as float64: shape ``(deg + 1, rows, cols)``, entry ``[i]`` the
+        coefficient of ``δ^i`` (``(0, rows, cols)`` for the zero matrix).  Numeric hand-over:
+        the exact values are rounded here.  Needs numpy.
+
+        >>> PolyMatrix("[[1 + d/2, 3]]").to_numpy().tolist()
+        [[[1.0, 3.0]], [[0.5, 0.0]]]
+        """
+        import numpy as np
+
+        if self.is_zero():
+            return np.zeros((0, self._m, self._n))
+        return np.array([[[float(c) for c in row] for row in M] for M in self.coefficient_lists()], dtype=float)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> Any:
+        """``np.asarray(M)`` for a constant matrix (δ-degree ≤ 0): its float64 values.  A matrix
+        with delays has no single array; :meth:`to_numpy` gives its coefficient stack."""
+        if self.degree() > 0:
+            raise DomainError(
+                f"np.asarray needs a constant matrix; this one has δ-degree {self.degree()} "
+                "(use M.to_numpy() for the coefficient stack (deg + 1, rows, cols))"
+            )
+        stack = self.to_numpy()
+        import numpy as np
+
+        out = stack[0] if stack.shape[0] else np.zeros((self._m, self._n))
+        return out if dtype is None else out.astype(dtype)
+
     def __iter__(self):  # pragma: no cover - explicit refusal
         raise TypeError("PolyMatrix is not iterable; use M.tolist() or M[i, :]")
 

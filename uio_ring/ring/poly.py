@@ -264,6 +264,16 @@ class Poly:
     def __bool__(self) -> bool:
         return not self._p.is_zero()
 
+    def __float__(self) -> float:
+        """The value of a constant polynomial (degree ≤ 0) as a float (rounded).
+
+        >>> float(Poly("1/4")), float(Poly(0))
+        (0.25, 0.0)
+        """
+        if self._p.degree() > 0:
+            raise DomainError(f"float() needs a constant; {self} has δ-degree {self._p.degree()}")
+        return float(bk.to_fraction(self._p[0]))
+
     def __repr__(self) -> str:
         return bk.to_str(self._p, self.var)
 

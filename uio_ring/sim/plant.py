@@ -7,14 +7,14 @@ from typing import Any
 
 import numpy as np
 
-from uio_ring.numeric.taps import delayed_sum
-from uio_ring.sim._blocks import block_integrator
 from uio_ring.numeric.convert import coefficient_arrays
 from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
-from uio_ring.sim._progress import Progress, want_progress
-from uio_ring.numeric.threads import blas_single_thread
-from uio_ring.sim.errors import SimulationError
 from uio_ring.numeric.history import sample_history
+from uio_ring.numeric.taps import delayed_sum
+from uio_ring.numeric.threads import blas_single_thread
+from uio_ring.sim._blocks import block_integrator
+from uio_ring.sim._progress import Progress, want_progress
+from uio_ring.sim.errors import SimulationError
 from uio_ring.sim.result import SimulationResult
 from uio_ring.sim.signals import as_noise, input_samples
 

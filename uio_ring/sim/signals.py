@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from uio_ring.sim.errors import DimensionError, SimulationError
 from uio_ring.numeric.history import sample_signal
+from uio_ring.sim.errors import DimensionError, SimulationError
 
 __all__ = ["UniformNoise", "as_noise", "input_samples"]
 

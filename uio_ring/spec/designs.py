@@ -24,7 +24,7 @@ from typing import Any
 
 from uio_ring.errors import SpecError
 
-__all__ = ["design_to_data", "design_from_data", "save_design", "load_design"]
+__all__ = ["design_to_data", "design_from_data", "save_design", "load_design", "load_observer_model"]
 
 FORMAT_VERSION = 1
 
@@ -63,9 +63,26 @@ def _encode(value: Any) -> Any:
 
 def design_to_data(design: Any) -> dict[str, Any]:
     """Plain data holding every compared field of a design (exact values as strings),
-    plus the design's own readable ``summary`` (``to_dict()``)."""
+    the design's own readable ``summary`` (``to_dict()``), and ``numeric_derived``: the
+    float observer model (:meth:`~uio_ring.numeric.model.ObserverModel.to_dict`: coefficient
+    arrays per power of δ) for other tools.  ``numeric_derived`` is derived from the exact
+    fields and ignored on loading: the exact fields are the design."""
     fields = {f.name: _encode(getattr(design, f.name)) for f in dataclasses.fields(design) if f.compare}
-    return {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict()}
+    return {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict(),
+            "numeric_derived": design.numeric().to_dict()}
+
+
+def load_observer_model(path: str | Path) -> Any:
+    """The float observer model stored in a design file (its ``numeric_derived`` section),
+    ready for :meth:`~uio_ring.numeric.model.ObserverModel.stepper` or
+    :meth:`~uio_ring.numeric.model.ObserverModel.to_control`."""
+    from uio_ring.numeric.model import ObserverModel
+
+    data = _read_design_file(Path(path))
+    if not isinstance(data, dict) or "numeric_derived" not in data:
+        raise SpecError("the design file has no 'numeric_derived' section (written by an older uio_ring?)",
+                        path="numeric_derived")
+    return ObserverModel.from_dict(data["numeric_derived"])
 
 
 def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
@@ -151,20 +168,21 @@ def save_design(design: Any, stem: str | Path, *, formats: Sequence[str] = ("jso
     return out
 
 
-def load_design(path: str | Path) -> Any:
-    """Load a design written by :func:`save_design` (``.json`` or ``.yaml``)."""
+def _read_design_file(p: Path) -> Any:
     from uio_ring.spec.yaml_io import load_yaml_text
 
-    p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
     except OSError as exc:
         raise SpecError(f"cannot read {p}: {exc.strerror}") from None
     if p.suffix == ".json":
         try:
-            data = json.loads(text)
+            return json.loads(text)
         except json.JSONDecodeError as exc:
             raise SpecError(f"{p}: not valid JSON ({exc})") from None
-    else:
-        data = load_yaml_text(text)
-    return design_from_data(data)
+    return load_yaml_text(text)
+
+
+def load_design(path: str | Path) -> Any:
+    """Load a design written by :func:`save_design` (``.json`` or ``.yaml``)."""
+    return design_from_data(_read_design_file(Path(path)))

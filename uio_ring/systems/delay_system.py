@@ -324,6 +324,57 @@ class DelaySystem:
             outputs=list(self.output_names),
         )
 
+    @classmethod
+    def from_control(cls, ss: Any, *, unknown_inputs: Any = None, h: Any = None) -> DelaySystem:
+        """A delay-free system from a python-control ``StateSpace``, keeping its signal names.
+
+        The inputs of ``ss`` are split into unknown inputs ``w`` (the first ``unknown_inputs``
+        of them when it is a count, or the inputs with these names / indices; default: all)
+        and known inputs ``u`` (the rest): ``A, [B, E], C, [D, F]``.  Entries are read
+        through their shortest decimal text (``0.1`` → 1/10), as floats are everywhere in
+        the package.
+
+        >>> import control
+        >>> g = control.ss([[0, 1], [-2, -3]], [[0, 0], [1, 1]], [[1, 0]], [[0, 0]],
+        ...                inputs=["fault", "demand"], outputs=["pos"], states=["p", "v"])
+        >>> sys = DelaySystem.from_control(g, unknown_inputs=["fault"])
+        >>> sys.n_w, sys.n_u, sys.state_names, sys.known_input_names
+        (1, 1, ('p', 'v'), ('demand',))
+        """
+        require("control", extra="control")
+        A, B, C, D = (getattr(ss, k) for k in "ABCD")
+        names_in = list(getattr(ss, "input_labels", None) or [f"u[{i}]" for i in range(B.shape[1])])
+        m_all = B.shape[1]
+        if unknown_inputs is None:
+            w_idx = list(range(m_all))
+        elif isinstance(unknown_inputs, int):
+            if not 0 <= unknown_inputs <= m_all:
+                raise DimensionError(f"unknown_inputs = {unknown_inputs}; the StateSpace has {m_all} inputs")
+            w_idx = list(range(unknown_inputs))
+        else:
+            w_idx = []
+            for k in unknown_inputs:
+                if isinstance(k, str):
+                    if k not in names_in:
+                        raise DimensionError(f"unknown_inputs: no input named {k!r} (inputs: {names_in})")
+                    w_idx.append(names_in.index(k))
+                else:
+                    w_idx.append(int(k))
+        u_idx = [i for i in range(m_all) if i not in w_idx]
+
+        def rows(M: Any, cols: list[int] | None = None) -> PolyMatrix:
+            arr = [[repr(float(v)) for v in (r if cols is None else [r[c] for c in cols])] for r in M.tolist()]
+            n_cols = M.shape[1] if cols is None else len(cols)
+            return PolyMatrix(arr, shape=(M.shape[0], n_cols))
+
+        return cls(
+            rows(A), rows(B, w_idx), rows(C), rows(D, w_idx), E=rows(B, u_idx), F=rows(D, u_idx), h=h,
+            state_names=list(getattr(ss, "state_labels", None) or []) or None,
+            output_names=list(getattr(ss, "output_labels", None) or []) or None,
+            unknown_input_names=[names_in[i] for i in w_idx] if w_idx else None,
+            known_input_names=[names_in[i] for i in u_idx] if u_idx else None,
+        )
+
     def to_dict(self) -> dict[str, Any]:
         """Plain data (matrices as lists of polynomial strings, ``h`` as a string)."""
         return {
