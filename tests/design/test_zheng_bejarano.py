@@ -110,8 +110,12 @@ def test_design_with_printed_J_fails_theorem_4(paper_choices):
 
 # -- poles -------------------------------------------------------------------------------
 def test_default_poles():
+    """Default: l* poles at −⌈‖A(1)‖∞⌉ (= −4 on the paper's example: its A(1) has row sums
+    2, 2, 2, 4), or at −rate when a rate is given."""
     des = design_zheng_bejarano(P.system())
-    assert des.poles == tuple(Fraction(-(i + 1)) for i in range(des.l_star))
+    assert des.poles == (Fraction(-4),) * des.l_star
+    des = design_zheng_bejarano(P.system(), rate="5/2")
+    assert des.poles == (Fraction(-5, 2),) * des.l_star and des.certificate().ok
 
 
 def test_repeated_and_decimal_poles():

@@ -8,7 +8,9 @@ with poles −10, −25, −50, lag 3; the paper's printed design has lag 4):
   halving dt divides it by 14–17 (order ≈ 4: it is integration error);
 * exact start: the error drops from ≥ 1e-2 to ≤ 1e-5 exactly at t = lag·h;
 * noise uniform in [−2, 2]: for t ≥ 2 s, |e_noisy − e_clean| ≤ bound = 2 Σ_j ‖impulse
-  response‖₁ = (289, 1.8, 6633, 5707) per state; observed 1.8–49 % of it.
+  response‖₁ = (85.6, 2.8, 656, 581) per state; observed 18–29 % of it.  (An earlier bound
+  put the impulse at t = 0, where the observer's start-up hold of ẑ turned it into a step:
+  (289, 1.8, 6633, 5707), up to 12× too loose.)
 """
 
 from __future__ import annotations
@@ -84,7 +86,7 @@ def test_noise_keeps_the_error_bounded(paper_design):
     late = noisy.t >= 2.0
     dev = np.abs(noisy.error - clean.error)[:, late].max(axis=1)
     assert np.all(dev <= bound * (1 + 1e-6)), (dev, bound)
-    assert np.all(dev >= 0.01 * bound)  # measured 1.8–49 % of the worst case
+    assert np.all(dev >= 0.05 * bound)  # measured 18–29 % of the worst case
     # over the whole run (start-up included) the error stays within twice the bound + the clean error
     whole = np.abs(noisy.error).max(axis=1)
     assert np.all(whole <= 2 * bound + np.abs(clean.error).max(axis=1))

@@ -209,8 +209,11 @@ def _register_builtin() -> None:
             design=design_zheng_bejarano,
             certificate=delay_uio_certificate,
             options=(
-                MethodOption("poles", "rationals", "l* exact rationals: the spectrum of A0 - G0 C0 on each "
-                             "output channel (default -1, -2, ..., -l*)"),
+                MethodOption("poles", "poles", "l* exact rationals: the spectrum of A0 - G0 C0 on each "
+                             "output channel; or min-noise: the poles of least peak-to-peak noise gain with "
+                             "every pole at least as fast as -rate (default: l* poles at -rate)"),
+                MethodOption("rate", "rational", "the slowest decay rate of the observer error "
+                             "(default: ceil(||A(1)||_inf), at least 1)"),
                 MethodOption("search", "bool", "try the variants of the design choices and keep the "
                              "smallest observer with the least lag (default true)"),
             ),

@@ -33,6 +33,7 @@ KINDS: dict[str, dict[str, Any]] = {
     "rational_or_rationals": {"anyOf": [_SCALAR, {"type": "array", "items": _SCALAR}]},
     "rational_rows": {"type": "array", "items": {"type": "array", "items": _SCALAR}},
     "bool": {"type": "boolean"},
+    "poles": {"anyOf": [{"type": "array", "items": _SCALAR}, {"enum": ["min-noise"]}]},
 }
 
 
@@ -81,6 +82,12 @@ class MethodOption:
             return value
         if self.kind == "rational":
             return _exact(value, path)
+        if self.kind == "poles":
+            if isinstance(value, str):
+                if value != "min-noise":
+                    raise SpecError(f"expected a list of rationals or 'min-noise', got {value!r}", path=path)
+                return value
+            return tuple(_exact(v, f"{path}[{i}]") for i, v in enumerate(_list(value, path)))
         if self.kind == "rationals":
             return tuple(_exact(v, f"{path}[{i}]") for i, v in enumerate(_list(value, path)))
         if self.kind == "rational_or_rationals":

@@ -74,10 +74,18 @@ def _shift_matrices(r: int, l: int) -> tuple[PolyMatrix, PolyMatrix]:
     return A0, C0
 
 
+def _default_poles(sys: DelaySystem, l_star: int, rate: Any = None) -> tuple[Fraction, ...]:
+    """``l*`` poles at ``−α``: α = ``rate``, or :func:`~uio_ring.design.noise.default_rate`."""
+    from uio_ring.design.noise import default_rate
+
+    alpha = default_rate(sys) if rate is None else exact_fraction(rate, "rate")
+    if alpha <= 0:
+        raise DomainError(f"rate = {alpha} must be > 0 (the decay rate of the observer error)")
+    return tuple(-alpha for _ in range(l_star))
+
+
 def _read_poles(poles: Sequence[Any] | None, l_star: int) -> tuple[Fraction, ...]:
-    """Validate the requested spectrum: ``l*`` exact rationals (default ``−1, …, −l*``)."""
-    if poles is None:
-        return tuple(Fraction(-(i + 1)) for i in range(l_star))
+    """Validate the requested spectrum: ``l*`` exact rationals (precondition: not None)."""
     if isinstance(poles, (str, bytes)) or not isinstance(poles, Sequence):
         raise DomainError(f"poles must be a list of {l_star} rationals, not {poles!r}")
     values = tuple(exact_fraction(p, f"poles[{i}]") for i, p in enumerate(poles))
@@ -217,7 +225,7 @@ def _assemble(
     T = _normal_form_T(A_bar, C_bar, F, l_star)
     if T_left_inverse is None:
         T_left_inverse = left_inverse(T)
-    vals = _read_poles(poles, l_star)
+    vals = _default_poles(sys, l_star) if poles is None else _read_poles(poles, l_star)
     A0, C0 = _shift_matrices(r, l_star)
     G0 = _gain_from_poles(vals, r)
     L0 = A0 - G0 @ C0
@@ -366,7 +374,7 @@ def _lambda_choices(C_tilde: PolyMatrix) -> Iterator[tuple[str, PolyMatrix]]:
 
 
 def design_zheng_bejarano(
-    sys: DelaySystem, poles: Sequence[Any] | None = None, *, search: bool = True,
+    sys: DelaySystem, poles: Sequence[Any] | str | None = None, *, rate: Any = None, search: bool = True,
     report: AssumptionsReport | None = None,
 ) -> DelayUIODesign:
     """Design the delay unknown-input observer of paper 001 (Steps 1–5, with (19′)/(22′)).
@@ -379,9 +387,16 @@ def design_zheng_bejarano(
         ``l*`` exact rationals (int, Fraction, decimal text), repeated values
         allowed: the spectrum of ``A0 − G0 C0`` on each of the ``r`` output
         channels.  ``G0`` is read off ``Π (s − p_i)`` (no pole placement
-        routine).  Default ``−1, −2, …, −l*``.  Their number also selects
-        ``l*`` when observers of the same smallest order ``n_z`` exist with
-        different ``l*`` (e.g. ``(r, l*) = (2, 3)`` and ``(3, 2)``).
+        routine).  Their number also selects ``l*`` when observers of the same
+        smallest order ``n_z`` exist with different ``l*`` (e.g. ``(r, l*) = (2, 3)``
+        and ``(3, 2)``).  Default: ``l*`` poles at ``−α`` with α = ``rate``, or
+        ``⌈‖A(1)‖∞⌉`` (:func:`~uio_ring.design.noise.default_rate`: not slower than
+        the plant; repeated poles amplify noise less than spread ones).
+        ``"min-noise"``: the poles — and the design choices below — of least
+        peak-to-peak noise gain with every pole at least as fast as ``−rate``
+        (:func:`~uio_ring.design.noise.least_noise`; needs the system's ``h``).
+    rate
+        The slowest decay rate α for the default poles and for ``"min-noise"``.
     search
         Try the variants of the choices below and keep the best (default); with
         ``False`` take the ring's Hermite transforms and reduced inverses only.
@@ -476,10 +491,16 @@ def design_zheng_bejarano(
         Us = Us[:1]
     candidates = _smallest_observers(sys, Us, rho)
     finalists = _with_requested_poles(candidates, poles)
-    best = _least_lag_assembly(sys, finalists, _assembly_budget(sys) if search else 1)
+    ranked = _ranked_assemblies(sys, finalists, _assembly_budget(sys) if search else 1)
+    if isinstance(poles, str):
+        from uio_ring.design.noise import least_noise
+
+        return least_noise(sys, ranked, poles, rate=rate, assemble=_assemble, report=report)
+    best = ranked[0]
     return _assemble(
         sys, best.steps12, best.Lam, index=best.index, F_stack=best.F_stack, O_left_inverse=best.O_left_inverse,
-        T_left_inverse=best.T_left_inverse, poles=poles, choice=best.choice, assumptions=report,
+        T_left_inverse=best.T_left_inverse, poles=_default_poles(sys, best.index.l_star, rate) if poles is None
+        else poles, choice=best.choice, assumptions=report,
     )
 
 
@@ -540,9 +561,9 @@ def _smallest_observers(sys: DelaySystem, Us: list[tuple[str, PolyMatrix]], rho:
     return [c for c in scored if c.n_z == best_nz]
 
 
-def _with_requested_poles(candidates: list[_Candidate], poles: Sequence[Any] | None) -> list[_Candidate]:
+def _with_requested_poles(candidates: list[_Candidate], poles: Sequence[Any] | str | None) -> list[_Candidate]:
     """The candidates whose ``l*`` equals the number of requested poles (all when none are given)."""
-    if poles is None:
+    if poles is None or isinstance(poles, str):
         return candidates
     count = len(_read_poles(poles, len(poles) if isinstance(poles, Sequence) else 0))
     matching = [c for c in candidates if c.index.l_star == count]
@@ -555,18 +576,18 @@ def _with_requested_poles(candidates: list[_Candidate], poles: Sequence[Any] | N
     return matching
 
 
-def _least_lag_assembly(sys: DelaySystem, finalists: list[_Candidate], budget: int) -> _Assembly:
+def _ranked_assemblies(sys: DelaySystem, finalists: list[_Candidate], budget: int) -> list[_Assembly]:
     """Stage 2: for the finalists, each output compression Λ and each way to read F off (16),
-    T and its reduced left inverse; the combination of least lag (within ``budget``)."""
+    T and its reduced left inverse; every combination evaluated (within ``budget``), least
+    lag first (ties: lower degrees of T and F, then the order tried)."""
     n = sys.n_x
     finalists = sorted(finalists, key=lambda c: (c.steps12.A_bar.degree() + c.steps12.C_tilde.degree(), c.order))
-    best: _Assembly | None = None
-    tried = 0
+    out: list[_Assembly] = []
     for cand in finalists:
         s12, l_star = cand.steps12, cand.index.l_star
         r = s12.C_tilde.rank()
         for lam_label, Lam in _lambda_choices(s12.C_tilde):
-            if tried >= budget:
+            if len(out) >= budget:
                 break
             C_bar = (Lam @ s12.C_tilde)[0:r, 0:n]
             rows = [C_bar]
@@ -575,22 +596,20 @@ def _least_lag_assembly(sys: DelaySystem, finalists: list[_Candidate], budget: i
             O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
             OL = left_inverse(O)
             for f_label in ("F reduced modulo the left kernel of Ō", "F by (16) with the reduced left inverse of Ō"):
-                if tried >= budget:
+                if len(out) >= budget:
                     break
-                tried += 1
                 X = solve_left(O, CAl) if f_label.startswith("F reduced") else CAl @ OL
                 F = _F_from_row(X, r, l_star)
                 T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
                 TL = left_inverse(T)
                 key = (max(0, TL.degree()), T.degree(), F.degree())
-                if best is None or key < best.key:
-                    choice = f"{cand.label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T"
-                    best = _Assembly(key, s12, Lam, _ObservabilityIndex(l_star, O), F, OL, TL, choice)
-        if tried >= budget:
+                choice = f"{cand.label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T"
+                out.append(_Assembly(key, s12, Lam, _ObservabilityIndex(l_star, O), F, OL, TL, choice))
+        if len(out) >= budget:
             break
-    if best is None:  # pragma: no cover - finalists is not empty and budget ≥ 1
+    if not out:  # pragma: no cover - finalists is not empty and budget ≥ 1
         raise UioRingError("the design search evaluated no combination (budget 0?)")
-    return best
+    return sorted(out, key=lambda a: a.key)  # stable: the order tried breaks ties
 
 
 def _assembly_budget(sys: DelaySystem) -> int:

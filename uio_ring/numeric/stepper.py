@@ -530,14 +530,17 @@ class ObserverStepper:
             raise SimulationError("noise_gain: F is not Hurwitz, the gain is infinite")
         if horizon is None:
             horizon = 40.0 / rate + (self.model.max_delay + self.lag + 2) * self.h
-        T = int(np.ceil(horizon / self.dt)) + 1
+        # the impulse comes after the start-up: before 0 the observer holds ẑ at ẑ(0), which
+        # would turn an impulse at t = 0 into a step of length lag·h
+        k0 = (self.model.max_delay + self.lag + 1) * self.N + 3
+        T = k0 + int(np.ceil(horizon / self.dt)) + 1
         quiet = ObserverStepper(self.model, self.dt, guard_blocks=0)
         gain = np.empty((self.n_x, self.n_y))
         zeros = np.zeros((self.n_y, self.history_length))
         for j in range(self.n_y):
             y = np.zeros((self.n_y, T))
-            y[j, 0] = 1.0
-            gain[:, j] = np.abs(quiet.run(y, y_history=zeros)).sum(axis=1)
+            y[j, k0] = 1.0
+            gain[:, j] = np.abs(quiet.run(y, y_history=zeros)[:, k0:]).sum(axis=1)
         return gain
 
     def __repr__(self) -> str:
