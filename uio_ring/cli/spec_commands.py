@@ -97,6 +97,7 @@ def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, 
         for name, why in skipped:
             print(f"auto skipped {name}: {why}")
         print(design)
+        print(_performance_line(design, spec))
         print(_rule("certificate"))
         print(cert)
     print()
@@ -107,6 +108,19 @@ def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, 
         h = spec.system.h
         line += f", lag = {design.lag}" + (f" (estimate delayed by {float(design.lag * h):g} s)" if h else "")
     print(line)
+
+
+def _performance_line(design: Any, spec: Any) -> str:
+    """The design's noise and speed figures, or why there are none."""
+    from uio_ring.errors import NotSupportedError, SimulationError
+
+    try:
+        perf = design.performance(h=spec.system.h)
+    except NotSupportedError:
+        return "performance: finite-time observer with a nonlinear injection term (no linear noise gain)"
+    except SimulationError as exc:
+        return f"performance: not computed ({exc})"
+    return "performance: " + perf.summary()
 
 
 def _run_design(args: argparse.Namespace) -> int:

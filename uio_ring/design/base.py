@@ -49,6 +49,24 @@ class ObserverDesign(ABC):
         """The float :class:`~uio_ring.numeric.model.ObserverModel` that the engine steps
         (``h``: the basic delay, when the design's system has none)."""
 
+    def performance(self, *, h: Any = None, tolerance: float = 1e-3) -> Any:
+        """Decay rate, convergence time, the peak-to-peak noise gain (delayed taps and direct
+        feed-through included exactly), the H2 gain when finite, lag and order of a linear
+        observer: :class:`~uio_ring.numeric.performance.ObserverPerformance`.  ``h`` is needed
+        when the system has none and the observer has delays.  Raises ``NotSupportedError``
+        for observers with a nonlinear injection term.
+
+        >>> from uio_ring import DelaySystem, design_zheng_bejarano
+        >>> des = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None),
+        ...                             poles=[-2])
+        >>> p = des.performance()
+        >>> p.decay_rate, p.order, [round(float(g), 3) for g in p.noise_gain]
+        (2.0, 2, [1.5, 1.0])
+        """
+        from uio_ring.numeric.performance import performance
+
+        return performance(self.numeric(h=h), tolerance=tolerance)
+
     @abstractmethod
     def to_dict(self) -> dict[str, Any]:
         """Plain data: matrices as lists of polynomial strings."""

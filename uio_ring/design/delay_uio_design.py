@@ -154,23 +154,6 @@ class DelayUIODesign(ObserverDesign):
             guard_blocks=guard_blocks_for(sys), z_of_x=self.T, method=self.method,
         )
 
-    def performance(self, *, h: Any = None, tolerance: float = 1e-3) -> Any:
-        """Decay rate, convergence time, the peak-to-peak noise gain (delayed taps and the
-        direct feed-through ``HΛ(δ)`` included exactly), the H2 gain when finite, lag and
-        order: :class:`~uio_ring.numeric.performance.ObserverPerformance`.  ``h`` is needed
-        when the system has none and the observer has delays.
-
-        >>> from uio_ring import DelaySystem, design_zheng_bejarano
-        >>> des = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None),
-        ...                             poles=[-2])
-        >>> p = des.performance()
-        >>> p.decay_rate, p.order, [round(float(g), 3) for g in p.noise_gain]
-        (2.0, 2, [1.5, 1.0])
-        """
-        from uio_ring.numeric.performance import performance
-
-        return performance(self.numeric(h=h), tolerance=tolerance)
-
     # -- display and data -----------------------------------------------------------
     def __repr__(self) -> str:
         return (

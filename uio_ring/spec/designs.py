@@ -22,7 +22,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from uio_ring.errors import SpecError
+from uio_ring.errors import SpecError, UioRingError
 
 __all__ = ["design_to_data", "design_from_data", "save_design", "load_design", "load_observer_model"]
 
@@ -68,8 +68,13 @@ def design_to_data(design: Any) -> dict[str, Any]:
     arrays per power of δ) for other tools.  ``numeric_derived`` is derived from the exact
     fields and ignored on loading: the exact fields are the design."""
     fields = {f.name: _encode(getattr(design, f.name)) for f in dataclasses.fields(design) if f.compare}
-    return {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict(),
-            "numeric_derived": design.numeric().to_dict()}
+    out = {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict(),
+           "numeric_derived": design.numeric().to_dict()}
+    try:
+        out["performance_derived"] = design.performance().to_dict()
+    except UioRingError as exc:  # nonlinear observer, or delays without h: say why
+        out["performance_derived"] = {"not_computed": str(exc)}
+    return out
 
 
 def load_observer_model(path: str | Path) -> Any:
