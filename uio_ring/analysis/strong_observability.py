@@ -307,7 +307,7 @@ class StrongObservabilityReport:
         lines = [f"{self.name}: {'holds' if self.holds else 'FAILS'}"]
         lines.append(
             f"  normrank P(s) = {self.zeros.normal_rank}, n_x + rank [B; D] = {self.n_x + self.rank_BD}, "
-            f"dim V* = {self.dim_V_star}"
+            f"dim V* = {'not computed' if self.dim_V_star is None else self.dim_V_star}"
         )
         lines.append("  " + str(self.zeros))
         if self.rank_condition is not None:

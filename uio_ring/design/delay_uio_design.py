@@ -66,7 +66,9 @@ class DelayUIODesign(ObserverDesign):
     Step 5: ``L0 = A0 − G0 C0`` and ``H``, ``J`` from (22′).
 
     ``n_z = r·l*`` is the observer order and ``lag`` the δ-degree of
-    ``T_left_inverse`` (the estimate lags by ``lag·h``).  ``poles`` are the
+    ``T_left_inverse``: ``x̂(t)`` estimates ``x(t)`` itself (not a past value)
+    and is computed from ``ẑ`` over ``[t − lag·h, t]``, so it needs ``lag·h``
+    of history.  ``poles`` are the
     ``l*`` requested eigenvalues of ``A0 − G0 C0`` on each of the ``r`` output
     channels.  ``choice`` says how U, Λ and the left inverses were chosen.
     """
@@ -164,7 +166,7 @@ class DelayUIODesign(ObserverDesign):
     def __str__(self) -> str:
         lines = [
             f"Zheng–Bejarano delay UIO: n_z = {self.n_z} (r = {self.r} channels × l* = {self.l_star}), "
-            f"lag = {self.lag} (estimate delayed by {self.lag}·h)",
+            f"lag = {self.lag} (x̂(t) estimates x(t) from ẑ over the last {self.lag}·h)",
             f"  poles of A0 − G0 C0 on each channel: {[str(p) for p in self.poles]}",
             "  ξ' = L0 ξ + J Λ y" + (" + J_u u" if self.system.n_u else ""),
             "  ẑ  = ξ + H Λ y" + (" + H_u u" if self.system.n_u else ""),

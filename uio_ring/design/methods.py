@@ -227,7 +227,8 @@ def _register_builtin() -> None:
             certificate=normal_form_certificate,
             options=(
                 MethodOption("input_bounds", "rational_or_rationals", "bounds of |w| (of |w'| with "
-                             "reconstruct_input), one per unknown input or one for all", required=True),
+                             "reconstruct_input), one per unknown input or one for all", required=True,
+                             nonnegative=True),
                 MethodOption("reconstruct_input", "bool", "also reconstruct the unknown input w "
                              "(augmented state [x; w])"),
                 MethodOption("gains", "rational_rows", "differentiator gains per chain, top to bottom "
