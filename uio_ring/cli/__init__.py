@@ -17,11 +17,11 @@ import sys
 import traceback
 from collections.abc import Sequence
 
-from uio_ring.cli import calculator
+from uio_ring.cli import calculator, examples
 
 __all__ = ["main", "build_parser"]
 
-_COMMAND_MODULES = [calculator]
+_COMMAND_MODULES = [calculator, examples]
 
 # register later subcommands here (design, check, simulate, schema)
 try:  # pragma: no cover - present once the spec layer exists
