@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -103,7 +104,8 @@ def _run_check(args: argparse.Namespace) -> int:
 def _delay_text(system: Any) -> str:
     """``h = 0.01``, or why there is none (never Python's ``None``)."""
     if system.h is not None:
-        return f"h = {system.h}"
+        text = f"{float(system.h):g}"
+        return f"h = {text}" if Fraction(text) == system.h else f"h = {system.h}"
     return "delay-free (no h)" if system.is_delay_free else "h not given"
 
 

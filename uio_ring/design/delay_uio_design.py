@@ -1,6 +1,6 @@
-"""``DelayUIODesign``: the result of the Zheng–Bejarano design (paper 001), as named matrices.
+"""``DelayUIODesign``: the result of the Zheng–Bejarano design (Zheng et al. 2015), as named matrices.
 
-The observer (21) with the corrected gains (22′) of shared/ERRATA.md::
+The observer (21) with the corrected gains (22′) (docs/errata.md, Z1)::
 
     ξ' = L0 ξ + J(δ) Λ(δ) y + J_u(δ) u
     ẑ  = ξ + H(δ) Λ(δ) y + H_u(δ) u
@@ -51,7 +51,7 @@ def guard_blocks_for(sys: DelaySystem) -> int:
 # ----------------------------------------------------------------------------------------
 @dataclass(frozen=True, repr=False)
 class DelayUIODesign(ObserverDesign):
-    """The Zheng–Bejarano delay UIO: every matrix of Steps 1–5, named as in paper 001.
+    """The Zheng–Bejarano delay UIO: every matrix of Steps 1–5, named as in Zheng et al. (2015).
 
     Step 1: ``U M = [V; 0]`` (``M = [[CB, D], [D, 0]]``), ``Vbar V = [[B, 0], [D, 0]]``,
     ``W = [Vbar, 0] U = [K; Gamma] = [[K1, K2], [Gamma1, Gamma2]]``.

@@ -219,7 +219,7 @@ def _register_builtin() -> None:
     register_method(
         DesignMethod(
             name="normal-form",
-            summary="observer normal form with robust exact differentiators (Niederwieser et al.); "
+            summary="observer normal form with robust exact differentiators (Niederwieser et al. 2022); "
             "delay-free, strongly observable systems, no matching condition needed",
             design_class=NormalFormDesign,
             check=normal_form_applicable,
