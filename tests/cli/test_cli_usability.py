@@ -150,3 +150,10 @@ def test_lag_is_not_called_a_delay_of_the_estimate(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "delayed by" not in out
     assert "x̂(t) estimates x(t)" in out and "of history" in out
+
+
+def test_design_option_errors_name_the_design_section(tmp_path, capsys):
+    spec = _with_design_line(tmp_path, "  input_bounds: [0.02, 0.1]")
+    assert main(["design", str(spec), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "design: input_bounds has 2 entries" in err and "Traceback" not in err

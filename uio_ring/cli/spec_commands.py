@@ -111,11 +111,15 @@ def _delay_text(system: Any) -> str:
 
 def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
     from uio_ring.design.methods import design_auto, design_with
+    from uio_ring.errors import DimensionError, DomainError, SpecError
 
-    if spec.design.method == "auto":
-        res = design_auto(spec.system, **spec.design.options)
-        return res.design, res.method, res.skipped
-    return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
+    try:
+        if spec.design.method == "auto":
+            res = design_auto(spec.system, **spec.design.options)
+            return res.design, res.method, res.skipped
+        return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
+    except (DimensionError, DomainError) as exc:  # an option of the spec's design section does not fit
+        raise SpecError(str(exc), path="design") from exc
 
 
 def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, quiet: bool) -> None:
