@@ -151,3 +151,24 @@ def test_example_names_in_the_docs_are_shipped():
     for page in PAGES:
         for ref in re.findall(r"`([a-z0-9_]+)\.yaml`", page.read_text(encoding="utf-8")):
             assert ref in names or ref in {"spec", "full_example"}, f"{page.name}: {ref}.yaml is not a shipped example"
+
+
+def test_spec_format_page_lists_every_key_of_the_schema():
+    """docs/spec-format.md documents every key a spec file accepts (the schema is the truth)."""
+    from uio_ring.spec import schema
+
+    page = (DOCS / "spec-format.md").read_text(encoding="utf-8")
+    sch = schema()
+    keys = set(sch["properties"])
+    for section in ("system", "design", "simulate", "output"):
+        keys |= set(sch["properties"][section].get("properties", {}))
+    missing = sorted(k for k in keys if f"`{k}`" not in page)
+    assert not missing, f"docs/spec-format.md does not document: {', '.join(missing)}"
+
+
+def test_spec_format_page_lists_every_signal_function():
+    from uio_ring.spec.expressions import FUNCTIONS
+
+    page = (DOCS / "spec-format.md").read_text(encoding="utf-8")
+    missing = [f for f in FUNCTIONS if not re.search(rf"\b{f}\b", page)]
+    assert not missing, f"docs/spec-format.md does not list: {', '.join(missing)}"
