@@ -3,6 +3,7 @@ broken relative links, and the examples in docs/ run."""
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import re
 from pathlib import Path
@@ -106,7 +107,15 @@ def _blocks(lang: str) -> list[tuple[str, str]]:
     return out
 
 
-@pytest.mark.parametrize(("where", "code"), _blocks("python"), ids=[w for w, _ in _blocks("python")])
+def _runnable(code: str) -> bool:
+    """A complete example: it starts with an import and has no ``...`` placeholder (fragments are not run)."""
+    return code.startswith(("import ", "from ")) and "..." not in code
+
+
+_PYTHON = [(w, c) for w, c in _blocks("python") if _runnable(c)]
+
+
+@pytest.mark.parametrize(("where", "code"), _PYTHON, ids=[w for w, _ in _PYTHON])
 def test_python_blocks_run(where, code):
     exec(compile(code, where, "exec"), {"__name__": "__docs__"})
 
@@ -172,3 +181,19 @@ def test_spec_format_page_lists_every_signal_function():
     page = (DOCS / "spec-format.md").read_text(encoding="utf-8")
     missing = [f for f in FUNCTIONS if not re.search(rf"\b{f}\b", page)]
     assert not missing, f"docs/spec-format.md does not list: {', '.join(missing)}"
+
+
+@pytest.mark.parametrize("cls_name", ["DelayUIODesign", "NormalFormDesign"])
+def test_notation_tables_name_real_attributes(cls_name):
+    """The first column of each design table in docs/notation.md names attributes that exist."""
+    import uio_ring
+
+    cls = getattr(uio_ring, cls_name)
+    page = (DOCS / "notation.md").read_text(encoding="utf-8")
+    section = page.split(f"`{cls_name}`", 1)[1].split("\n\n`", 1)[0]
+    names = [a for cell in re.findall(r"^\| (`[^|]*`) \|", section, re.M)
+             for a in re.findall(r"`([A-Za-z_][A-Za-z_0-9]*)(?:\(\))?`", cell)]
+    assert names, f"no table found for {cls_name}"
+    fields = {f.name for f in dataclasses.fields(cls)}
+    missing = [a for a in names if not hasattr(cls, a) and a not in fields]
+    assert not missing, f"docs/notation.md names {missing} that {cls_name} does not have"
