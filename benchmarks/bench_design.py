@@ -151,7 +151,7 @@ def main(argv: list[str] | None = None) -> int:
     status = 0
     for kind, n, deg in cases:
         res = run(kind, n, deg, args.seed, args.budget)
-        label = "paper 001 §5" if kind == "paper" else f"random s={args.seed}"
+        label = "Zheng et al. (2015) §5" if kind == "paper" else f"random s={args.seed}"
         if not res["ok"]:
             print(f"{label:<14}{n:>4}{'':>6}{deg:>4}  {res['error']}")
             if not res["error"].startswith("timeout"):

@@ -1,5 +1,5 @@
 #!/usr/bin/env python
-"""Benchmark of the observer-normal-form design (paper 000) and its simulation.
+"""Benchmark of the observer-normal-form design (Niederwieser et al. 2022) and its simulation.
 
 Design: for seeded random strongly observable systems with n = 5, 10, 20, 40
 in two families — short chains (``p = max(m + 1, n // 5)`` outputs) and one long

@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Benchmark of the numeric backend (uio_ring.sim) against jitcdde, at equal accuracy.
 
-Problem: the example of paper 001 §5 — plant (4 states, A(δ), B(δ), C(δ), D(δ)) and the
+Problem: the example of Zheng et al. (2015) §5 — plant (4 states, A(δ), B(δ), C(δ), D(δ)) and the
 Zheng–Bejarano observer of ``design_zheng_bejarano(sys, poles=[-10, -25, -50])``
 (n_z states), unknown inputs w1 = −10 sin 100t, w2 = 20 sin 20t, constant history
 x = (1, 0, −1, 1/2) and ξ = 0 before 0, h = 0.01, 10 s.  As one DDE::
@@ -175,7 +175,7 @@ def main() -> None:
     sys = DelaySystem(PAPER["A"], PAPER["B"], PAPER["C"], PAPER["D"])
     design = design_zheng_bejarano(sys, poles=[-10, -25, -50])
     steps = int(round(T / dt))
-    print(f"paper 001 §5: plant 4 states + observer n_z = {design.n_z}, h = {h}, {T:g} s")
+    print(f"Zheng et al. (2015) §5: plant 4 states + observer n_z = {design.n_z}, h = {h}, {T:g} s")
 
     # reference: ours at dt = h/400, on the grid of dt = h/100 … h/10
     N_ref = 400

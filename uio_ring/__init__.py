@@ -74,7 +74,7 @@ _LAZY: dict[str, str] = {
     "design_zheng_bejarano": "uio_ring.design.zheng_bejarano",
     "zheng_bejarano_from_choices": "uio_ring.design.zheng_bejarano",
     "delay_uio_certificate": "uio_ring.verify.delay_uio",
-    # delay-free methods I (issue 6): strong observability, observer normal form (paper 000)
+    # delay-free methods I (issue 6): strong observability, observer normal form (Niederwieser et al. 2022)
     "rosenbrock_matrix": "uio_ring.analysis.strong_observability",
     "invariant_zeros": "uio_ring.analysis.strong_observability",
     "InvariantZeros": "uio_ring.analysis.strong_observability",

@@ -41,7 +41,7 @@ def test_aircraft_strongly_observable_and_zero_free():
     z = rep.invariant_zeros
     assert z.normal_rank == 8 and z.factors == () and z.polynomial == Poly(1, "s") and z.roots == ()
     assert rep.dim_V_star == 0 and rep.left_invertible
-    # claim 1 of digest §4: the gcd of the 9 maximal 8×8 minors of P(s) is 1
+    # the gcd of the 9 maximal 8×8 minors of P(s) is 1
     P = sympy.Matrix(rosenbrock_matrix(sys).to_sympy())
     s = sympy.Symbol("s")
     minors = [P[[i for i in range(9) if i != k], :].det() for k in range(9)]

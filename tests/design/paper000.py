@@ -1,4 +1,4 @@
-"""Paper 000's lateral aircraft model (55)–(56) and the exact values of digest §3.12.
+"""Paper 000's lateral aircraft model (55)–(56) and the exact values that reproduce its printed ones.
 
 Package notation: the paper's D (unknown input) is our B, its B (known input) our E.
 """
@@ -32,7 +32,7 @@ def aircraft(known_input: bool = True) -> DelaySystem:
 
 X0 = [-0.5, 0.1, 0.02, 0.2, -0.1, -0.3, 0.2]
 
-#: digest §3.12 (exact)
+#: exact values behind the printed decimals
 GAMMA = [[Fr(-1900, 7017), 1], [1, 0]]
 XI_51 = Fr(-164619502, 82063815)
 BETA_123 = Fr(-2420394861, 162077600)

@@ -1,7 +1,7 @@
 """Data of paper 001 (Zheng, Bejarano, Perruquetti & Richard 2015), Section 5.
 
-Test data only (STYLE: no paper example matrices in library modules).  The
-printed values listed as wrong in shared/ERRATA.md are kept here under names
+Test data only (no paper example matrices in library modules).  The
+printed values listed as wrong in docs/errata.md are kept here under names
 that say so, for the tests that must show them failing.
 """
 
@@ -80,7 +80,7 @@ L0 = PolyMatrix(
 H = PolyMatrix(
     "[[0, 0, 0], [0, 1, -1], [0, 0, 0], [0, 1, -1], [0, d - 1, 1 - d], [0, 1, -1]]"
 )
-# (22) as printed: WRONG in entries (5,3) and (6,3) (shared/ERRATA.md)
+# (22) as printed: WRONG in entries (5,3) and (6,3) (docs/errata.md, Z1)
 J_PRINTED = PolyMatrix(
     "[[83 + 5*d - d**2, 0, 0], [0, 0, 0], [2001 - 5*d**2 + 3*d + d**3, d - 1, 1 - d],"
     " [0, 0, 0], [12503 - 4*d - d**2 + d**3, d - 1, -1], [0, 0, 1]]"

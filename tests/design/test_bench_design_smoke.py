@@ -13,4 +13,4 @@ BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_design.py"
 def test_bench_design_quick_runs():
     proc = subprocess.run([sys.executable, str(BENCH), "--quick"], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    assert "paper 001" in proc.stdout and "FAIL" not in proc.stdout
+    assert "Zheng et al. (2015)" in proc.stdout and "FAIL" not in proc.stdout

@@ -1,5 +1,5 @@
 """Observer normal form of paper 000 (uio_ring.design.normal_form): exact values of the
-aircraft example (digest §3.12), the augmented design (§3.9), the paper-001 cross case
+aircraft example (exact reproduction of the printed values), the augmented design (§3.9), the paper-001 cross case
 (§5.4), general properties on random systems (§4 item 18), refusals."""
 
 from __future__ import annotations
@@ -144,7 +144,7 @@ def test_zheng_bejarano_refuses_aircraft_normal_form_applies():
     assert rep.to_dict()["matching_condition"] is False
 
 
-# ---------------------------------------------------------------------------- paper 001's example at δ = 0 (digest §5.4)
+# ---------------------------------------------------------------------------- paper 001's example at δ = 0 (cross-check case)
 def test_paper001_at_delta_zero_with_feedthrough():
     sys = paper001.system().at_delta(0)
     d = design_normal_form(sys, [1, 1])
@@ -171,7 +171,7 @@ def test_refusals_carry_the_report():
         design_normal_form(DelaySystem("[[0, 1], [0, 0]]", "[[0, 0], [1, 1]]", "[[1, 0]]", None), [1, 1])
 
 
-# ---------------------------------------------------------------------------- general properties (digest §4 item 18)
+# ---------------------------------------------------------------------------- general properties
 def _random_so_system(rng: random.Random, n: int, m: int, p: int, feedthrough: bool = False) -> DelaySystem:
     while True:
         A = [[rng.randint(-3, 3) for _ in range(n)] for _ in range(n)]
@@ -225,7 +225,7 @@ def test_single_output_gives_companion_form():
 
 
 def test_design_is_exact_on_an_ill_conditioned_chain():
-    """A long chain with large ζ: float64 rank decisions break here (digest §6.10); exact does not."""
+    """A long chain with large ζ: float64 rank decisions break here (docs/errata.md, N5); exact does not."""
     n = 8
     A = [[1 if j == i + 1 else 0 for j in range(n)] for i in range(n)]
     A[n - 1] = [(-1) ** k * (k + 3) ** 3 for k in range(n)]

@@ -337,7 +337,7 @@ def assert_popov(K: PolyMatrix) -> None:
 # paper 001 (Zheng, Bejarano, Perruquetti, Richard), Section 5: A, B, C, D as printed
 # ----------------------------------------------------------------------------
 def paper_001_system() -> dict[str, PolyMatrix]:
-    """A(δ), B(δ), C(δ), D(δ) of the illustrative example (none listed in ERRATA.md)."""
+    """A(δ), B(δ), C(δ), D(δ) of the illustrative example (none listed in docs/errata.md)."""
     return {
         "A": PolyMatrix("[[0, -1, 1, 0], [-1, δ, 0, 0], [1, 0, 1, 0], [δ, 1, 1, -1]]"),
         "B": PolyMatrix("[[0, 0], [0, 0], [1, 1], [0, δ]]"),

@@ -144,7 +144,7 @@ def test_style_guide_example():
 
 
 def test_convention_is_U_times_M():
-    """An input where U·M and U⁻¹·M differ (STYLE: examples must tell conventions apart)."""
+    """An input where U·M and U⁻¹·M differ (an example must tell the conventions apart)."""
     M = PolyMatrix("[[d, 1], [d**2 + 1, d]]")  # det = -1: unimodular, H = I
     h = check_hermite(M)
     assert h.H == PolyMatrix.identity(2)
@@ -191,7 +191,7 @@ def test_rank_deficient():
 def test_paper_001_step_1():
     """Zheng et al. §5, Step 1: M = [[CB, D], [D, 0]] has rank 3 and its normalised
     Hermite form is V = [[1,0,0,0],[0,1,0,0],[0,0,1,δ]] on top of three zero rows.
-    (ERRATA: V is unique; the printed U is a choice and is not compared.)"""
+    (docs/errata.md Z6: V is unique; the printed U is a choice and is not compared.)"""
     M = paper_001_M()
     assert M.shape == (6, 4)
     h = check_hermite(M)

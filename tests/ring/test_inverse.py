@@ -201,7 +201,7 @@ def test_rank_deficient_square():
 
 def test_paper_001_observability_matrix_left_inverse():
     """§5 Step 3: Ō_3 (6×4) is left unimodular; the printed left inverse is one choice
-    (ERRATA: choice-dependent), so only X Ō_3 = I is checked."""
+    (docs/errata.md Z6: choice-dependent), so only X Ō_3 = I is checked."""
     O3 = PolyMatrix("[[0, 1, 0, 0], [-δ, 0, 1, 1], [-1, δ, 0, 0], [-δ, 0, 1, 1], "
                     "[-δ, 1 + δ**2, -1, 0], [-δ, 0, 1, 1]]")
     assert is_left_unimodular(O3)

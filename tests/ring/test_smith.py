@@ -190,7 +190,7 @@ def test_rank_deficient():
 
 def test_paper_001_invariant_factors():
     """Zheng et al. §5 (Assumption 2): Invs [[CB, D], [D, 0]] = {1, 1, 1}, and appending
-    the block row [B, 0] does not change them (ERRATA: unique, compare values)."""
+    the block row [B, 0] does not change them (docs/errata.md Z6: unique, compare values)."""
     M = paper_001_M()
     s = check_smith(M)
     assert s.invariant_factors == (1, 1, 1)

@@ -47,7 +47,7 @@ def test_simulation_1_converges_after_about_two_seconds(sim1_design):
     e = res.error_norm()
     assert e[_window(res, 1.5, 1.5)].max() > 0.5  # not yet converged at 1.5 s
     t_conv = _settle_time(res, 1e-2)
-    assert 1.8 < t_conv < 2.0  # ≈ 2 s (digest §3.10: 1.94 s)
+    assert 1.8 < t_conv < 2.0  # ≈ 2 s (1.94 s in a reference run)
     assert e[_window(res, 2.0)].max() < 1e-2
     assert e[_window(res, 3.0)].max() < 5e-3  # residual of the implicit discretisation at dt = 2e-4
     assert np.abs(res.x[:, -1]).max() < 0.3  # the plant drifts slowly (unstable, max|x| ≈ 0.24)
@@ -77,12 +77,12 @@ def test_simulation_2_reconstructs_the_input_in_closed_loop(sim2_design):
     res = simulate_observer(sim2_design, t_final=15, dt=2e-4, w=delta, x0=paper000.X0,
                                         feedback=feedback)
     e, ew = res.error_norm(), np.abs((res.w - res.w_hat)[0])
-    assert 2.3 < _settle_time(res, 1e-2) < 2.7  # ≈ 2.5 s (digest: 2.47–2.54 s)
+    assert 2.3 < _settle_time(res, 1e-2) < 2.7  # ≈ 2.5 s (2.47–2.54 s in reference runs)
     assert _settle_time(res, 1e-2, ew) < 2.6
     late = _window(res, 2.7)
     assert e[late].max() < 1e-2 and ew[late].max() < 1e-2
     assert ew[_window(res, 5.0)].max() < 5e-4
-    assert np.abs(res.x[:, -1]).max() < 2e-2  # the closed loop drives x to 0 (digest: 6e-3 at 15 s)
+    assert np.abs(res.x[:, -1]).max() < 2e-2  # the closed loop drives x to 0 (6e-3 at 15 s in a reference run)
     assert 1.0 < np.abs(res.x[:, _window(res, 1.0, 1.0)]).max() < 20  # bounded transient (≈ 8.8)
     # explicit Euler of the observer at the same step does not converge in this closed loop
     bad = simulate_observer(sim2_design, t_final=8, dt=2e-4, w=delta, x0=paper000.X0,

@@ -1,4 +1,4 @@
-"""Both assumptions of paper 001 at once (what a design method checks first).
+"""Both assumptions of Zheng et al. (2015) at once (what a design method checks first).
 
 >>> from uio_ring import DelaySystem
 >>> rep = check_assumptions(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None))
@@ -18,7 +18,7 @@ __all__ = ["check_assumptions"]
 
 def check_assumptions(sys: DelaySystem) -> AssumptionsReport:
     """Assumption 1 (:func:`unknown_input_observability`) and Assumption 2
-    (:func:`check_rank_condition`) of paper 001, as one report.
+    (:func:`check_rank_condition`) of Zheng et al. (2015), as one report.
 
     Parameters
     ----------

@@ -11,10 +11,11 @@ For ``x' = A x + B w``, ``y = C x + D w`` (δ-degree 0, ``w`` unknown):
   of Markov parameters ``T_k = [[D], [CB, D], …, [CA^{k−2}B, …, CB, D]]``:
   with ``ρ_k = rank T_k − rank T_{k−1}`` (nondecreasing), ``ρ_{i+1} − ρ_i`` orders
   equal ``i`` (order 0 is direct feed-through);
-* the **chain lengths** ``μ`` of paper 000's observer normal form: with
+* the **chain lengths** ``μ`` of the observer normal form of Niederwieser et al. (2022): with
   ``d_k = rank [O_k, H_k] − rank H_k`` (``O_k = [C; …; CA^{k−1}]``, ``H_k`` the
   Toeplitz matrix of ``CA^iB`` without ``D``), ``d_k = Σ_j min(μ_j, k)``, so ``μ`` is
-  the conjugate partition of the increments (digest 000 claim 19).
+  the conjugate partition of the increments (an observation, checked on
+  random systems in the test suite, not a statement of the paper).
 
 >>> from uio_ring import DelaySystem
 >>> sys = DelaySystem("[[0, 1, 0], [0, 0, 1], [0, 0, 0]]", "[[0], [0], [1]]", "[[1, 0, 0]]", None)
@@ -228,11 +229,11 @@ def infinite_zero_structure(sys: DelaySystem) -> InfiniteZeroStructure:
 
 
 def normal_form_chain_lengths(sys: DelaySystem) -> tuple[int, ...]:
-    """The block sizes ``μ`` of paper 000's observer normal form, as a system invariant.
+    """The block sizes ``μ`` of Niederwieser et al.'s observer normal form, as a system invariant.
 
     ``d_k = rank [O_k, H_k] − rank H_k`` (``H_k`` without feed-through) satisfies
     ``d_k = Σ_j min(μ_j, k)``; ``μ`` is the conjugate of the increments
-    (digest 000 claim 19).  For a strongly observable system ``Σ μ = n_x``.
+    (checked on random systems in the test suite).  For a strongly observable system ``Σ μ = n_x``.
     Assumes ``D = 0`` (apply the feed-through reduction first).
 
     >>> from uio_ring import DelaySystem

@@ -1,13 +1,13 @@
-"""Can the observer normal form of paper 000 be used?  One report, for ``auto``.
+"""Can the observer normal form of Niederwieser et al. (2022) be used?  One report, for ``auto``.
 
-Conditions (paper 000, Assumptions 2.2–2.3, with the feed-through reduction of
+Conditions (Niederwieser et al. 2022, Assumptions 2.2–2.3, with the feed-through reduction of
 Appendix A): the system is delay-free, its unknown-input columns are
 independent (``rank [B; D] = n_w``), and it is strongly observable.  The
 input bounds (Assumption 2.1) are asked for by the design itself.
 
 The report also says whether the rank (observer-matching) condition holds —
-not needed here, but it is why paper 001's observer may refuse a system this
-method accepts (the aircraft example of paper 000 has ``C B = 0``).
+not needed here, but it is why Zheng et al.'s observer may refuse a system this
+method accepts (the aircraft example of Niederwieser et al. (2022) has ``C B = 0``).
 
 >>> from uio_ring import DelaySystem
 >>> rep = normal_form_applicable(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None))
@@ -36,7 +36,7 @@ __all__ = ["NormalFormApplicability", "normal_form_applicable"]
 
 @dataclass(frozen=True)
 class NormalFormApplicability:
-    """Verdict: does the observer normal form (paper 000) apply to this system?
+    """Verdict: does the observer normal form (Niederwieser et al. 2022) apply to this system?
 
     Attributes
     ----------
@@ -66,7 +66,7 @@ class NormalFormApplicability:
 
     @property
     def name(self) -> str:
-        return "observer normal form (paper 000) applicability"
+        return "observer normal form (Niederwieser et al. 2022) applicability"
 
     @property
     def summary(self) -> str:
@@ -104,7 +104,7 @@ class NormalFormApplicability:
 
 
 def normal_form_applicable(sys: DelaySystem) -> NormalFormApplicability:
-    """Check the assumptions of paper 000's observer normal form; never raises on failure.
+    """Check the assumptions of Niederwieser et al.'s observer normal form; never raises on failure.
 
     Parameters
     ----------

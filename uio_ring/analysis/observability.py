@@ -1,4 +1,4 @@
-"""Unknown-input observability over Q[δ]: algorithm (4)–(5) and Assumption 1 of paper 001.
+"""Unknown-input observability over Q[δ]: algorithm (4)–(5) and Assumption 1 of Zheng et al. (2015).
 
 The algorithm (Bejarano & Zheng 2014, quoted as (4)–(5) in Zheng et al. 2015)
 extracts, step by step, the combinations ``Δ_k(δ) x`` of the state that the
@@ -44,7 +44,7 @@ def _iteration_cap(sys: DelaySystem) -> int:
 
 
 def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
-    """Run algorithm (4)–(5) of paper 001 and decide Assumption 1.
+    """Run algorithm (4)–(5) of Zheng et al. (2015) and decide Assumption 1.
 
     Parameters
     ----------
@@ -67,7 +67,7 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
     ``Δ_{k+1}`` is the image of ``[Δ_k A; G_k]`` under the left-kernel rows of
     ``P_k`` (a minimal basis, which keeps the degrees low).  ``k*`` and the
     ``M_k`` do not depend on these choices.  For a delay-free system the
-    verdict is strong observability (paper 001, Remark 2).
+    verdict is strong observability (Zheng et al. 2015, Remark 2).
 
     Examples
     --------

@@ -1,4 +1,4 @@
-"""Assumption 2 of paper 001: the rank (observer-matching) condition over Q[δ].
+"""Assumption 2 of Zheng et al. (2015): the rank (observer-matching) condition over Q[δ].
 
     Inv_S [[C B, D], [D, 0], [B, 0]]  =  Inv_S [[C B, D], [D, 0]]          (6)
 
@@ -25,7 +25,7 @@ __all__ = ["check_rank_condition", "matching_matrix"]
 
 
 def matching_matrix(sys: DelaySystem) -> PolyMatrix:
-    """``M = [[C B, D], [D, 0]]`` (2·n_y × 2·n_w), the matrix of Step 1 of paper 001.
+    """``M = [[C B, D], [D, 0]]`` (2·n_y × 2·n_w), the matrix of Step 1 of Zheng et al. (2015).
 
     >>> from uio_ring import DelaySystem
     >>> matching_matrix(DelaySystem("[[0]]", "[[1]]", "[[d]]", "[[1]]"))
@@ -36,7 +36,7 @@ def matching_matrix(sys: DelaySystem) -> PolyMatrix:
 
 
 def check_rank_condition(sys: DelaySystem) -> RankConditionReport:
-    """Decide Assumption 2 of paper 001 from the invariant factors of two matrices.
+    """Decide Assumption 2 of Zheng et al. (2015) from the invariant factors of two matrices.
 
     Parameters
     ----------
@@ -52,12 +52,12 @@ def check_rank_condition(sys: DelaySystem) -> RankConditionReport:
 
     Algorithm
     ---------
-    Paper 001, Assumption 2, eq. (6), with invariant factors from the ring's
+    Zheng et al. (2015), Assumption 2, eq. (6), with invariant factors from the ring's
     Smith form; for delay-free systems Remark 2 / Hautus (1983), eq. (3).
 
     Examples
     --------
-    Paper 003's situation, ``C B = 0`` and ``D = 0``: the unknown input reaches
+    The situation of Tranninger et al. (2021), ``C B = 0`` and ``D = 0``: the unknown input reaches
     the output only through higher derivatives.
 
     >>> from uio_ring import DelaySystem

@@ -1,4 +1,4 @@
-"""Report objects of the structural analysis (Assumptions 1 and 2 of paper 001).
+"""Report objects of the structural analysis (Assumptions 1 and 2 of Zheng et al. (2015)).
 
 A ``check_*`` function never raises because an assumption fails: it returns
 one of these frozen reports, whose ``holds`` says the verdict and ``reason``
@@ -43,7 +43,7 @@ def _verdict(holds: bool) -> str:
 
 @dataclass(frozen=True)
 class ObservabilityReport:
-    """Algorithm (4)–(5) of paper 001 and the verdict on Assumption 1.
+    """Algorithm (4)–(5) of Zheng et al. (2015) and the verdict on Assumption 1.
 
     Attributes
     ----------
@@ -133,10 +133,10 @@ class ObservabilityReport:
 
 @dataclass(frozen=True)
 class RankConditionReport:
-    """Assumption 2 of paper 001: ``Inv_S [[CB, D], [D, 0], [B, 0]] = Inv_S [[CB, D], [D, 0]]``.
+    """Assumption 2 of Zheng et al. (2015): ``Inv_S [[CB, D], [D, 0], [B, 0]] = Inv_S [[CB, D], [D, 0]]``.
 
     For a delay-free system this is the observer-matching / rank condition of
-    Hautus, paper 001 (3): ``rank M = rank [B; D] + rank D`` with
+    Hautus; Zheng et al. (2015), (3): ``rank M = rank [B; D] + rank D`` with
     ``M = [[CB, D], [D, 0]]`` (together with ``rank [M; [B, 0]] = rank M``).
 
     Attributes
@@ -167,7 +167,7 @@ class RankConditionReport:
 
     @property
     def hautus_rank_condition(self) -> bool:
-        """Paper 001 (3): ``rank M = rank [B; D] + rank D`` (ranks over Q(δ))."""
+        """Zheng et al. (2015), (3): ``rank M = rank [B; D] + rank D`` (ranks over Q(δ))."""
         return self.rank_M == self.rank_BD + self.rank_D
 
     def __str__(self) -> str:
@@ -211,7 +211,7 @@ class RankConditionReport:
 
 @dataclass(frozen=True)
 class AssumptionsReport:
-    """Both assumptions of paper 001 for one system; ``holds`` iff both hold."""
+    """Both assumptions of Zheng et al. (2015) for one system; ``holds`` iff both hold."""
 
     observability: ObservabilityReport
     rank_condition: RankConditionReport

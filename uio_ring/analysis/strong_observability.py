@@ -6,7 +6,7 @@ For ``x' = A x + B w + E u``, ``y = C x + D w + F u`` (all matrices of δ-degree
     P(s) = [[s I − A, −B], [C, D]]          ((n_x + n_y) × (n_x + n_w))
 
 Its *invariant zeros* are the roots of its non-unit invariant factors (the λ
-with ``rank P(λ) < normrank P``).  Hautus (1983), paper 003 Def. 3 / Prop. 1:
+with ``rank P(λ) < normrank P``).  Hautus (1983); Tranninger et al. (2021), Def. 3 / Prop. 1:
 
 * strongly observable  ⇔ ``V* = {0}`` ⇔ ``rank P(λ) = n_x + rank [B; D]`` for all λ ∈ C
   (left invertible and no invariant zeros);
@@ -16,8 +16,8 @@ with ``rank P(λ) < normrank P``).  Hautus (1983), paper 003 Def. 3 / Prop. 1:
   condition ``rank [[C B, D], [D, 0]] = rank D + rank [B; D]``.
 
 ``rank [B; D]`` (not ``n_w``) makes the test about the *state*: redundant
-unknown-input columns do not spoil it.  This is Remark 2, eq. (7) of paper 001,
-so Assumption 1 of paper 001 agrees with strong observability on delay-free
+unknown-input columns do not spoil it.  This is Remark 2, eq. (7) of Zheng et al. (2015),
+so Assumption 1 of Zheng et al. (2015) agrees with strong observability on delay-free
 systems.  Both the Smith form of ``P(s)`` and the weakly unobservable subspace
 ``V*`` are computed, and the report says if they disagree (they never should).
 
@@ -78,7 +78,7 @@ def constant_matrices(sys: DelaySystem) -> dict[str, flint.fmpq_mat]:
         if M.degree() > 0:
             raise DomainError(
                 f"{name} has δ-degree {M.degree()}: this analysis is for delay-free systems "
-                "(use sys.at_delta(0) for the delay-free part, or the delay analysis of paper 001)"
+                "(use sys.at_delta(0) for the delay-free part, or the delay analysis of Zheng et al. (2015))"
             )
         out[name] = qc.qmat(M, name)
     return out
@@ -172,7 +172,7 @@ def invariant_zeros(sys: DelaySystem) -> InvariantZeros:
     Algorithm
     ---------
     Invariant factors of ``P(s)`` by the ring (:func:`uio_ring.ring.invariant_factors`);
-    Rosenbrock (1970), paper 003 Def. 2.
+    Rosenbrock (1970); Tranninger et al. (2021), Def. 2.
 
     Examples
     --------
@@ -301,13 +301,13 @@ class StrongObservabilityReport:
 
     @property
     def name(self) -> str:
-        return f"{self.kind} (Hautus 1983, paper 003 Prop. 1)"
+        return f"{self.kind} (Hautus 1983; Tranninger et al. 2021, Prop. 1)"
 
     def __str__(self) -> str:
         lines = [f"{self.name}: {'holds' if self.holds else 'FAILS'}"]
         lines.append(
             f"  normrank P(s) = {self.zeros.normal_rank}, n_x + rank [B; D] = {self.n_x + self.rank_BD}, "
-            f"dim V* = {self.dim_V_star}"
+            f"dim V* = {'not computed' if self.dim_V_star is None else self.dim_V_star}"
         )
         lines.append("  " + str(self.zeros))
         if self.rank_condition is not None:
@@ -361,8 +361,8 @@ def is_strongly_observable(sys: DelaySystem, *, cross_check: bool = True) -> Str
     """Strong observability: ``rank P(λ) = n_x + rank [B; D]`` for every λ ∈ C.
 
     Equivalently ``V* = {0}``: ``y ≡ 0`` forces ``x ≡ 0`` whatever the unknown
-    input.  This is what the observer normal form of paper 000 needs (its
-    Assumption 2.3), and what Assumption 1 of paper 001 says at δ = 0.
+    input.  This is what the observer normal form of Niederwieser et al. (2022) needs (its
+    Assumption 2.3), and what Assumption 1 of Zheng et al. (2015) says at δ = 0.
 
     Parameters
     ----------
@@ -434,7 +434,7 @@ def is_strongly_detectable(sys: DelaySystem) -> StrongObservabilityReport:
 
 def is_strong_star_detectable(sys: DelaySystem) -> StrongObservabilityReport:
     """Strong* detectability: strongly detectable and the rank condition
-    ``rank [[C B, D], [D, 0]] = rank D + rank [B; D]`` (Hautus 1983; paper 003 (8)).
+    ``rank [[C B, D], [D, 0]] = rank D + rank [B; D]`` (Hautus 1983; Tranninger et al. 2021, (8)).
 
     It is what a *linear* unknown-input observer needs.
 

@@ -3,20 +3,25 @@
 Each subcommand lives in its own module and registers itself through
 ``add_parser(subparsers)``; :func:`main` dispatches.  Exit codes: 0 success,
 1 a structural assumption fails, 2 bad input (arguments, text, spec).
-User errors print one message, no traceback (``--debug`` shows it).
+User errors print one message, no traceback (``--debug`` adds it, with the
+same exit code).  When the reader of standard output goes away (``uio-ring
+design spec.yaml | head``) the command stops quietly with exit code 141, as a
+process ended by SIGPIPE does in a shell.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+import traceback
 from collections.abc import Sequence
 
-from uio_ring.cli import calculator
+from uio_ring.cli import calculator, examples
 
 __all__ = ["main", "build_parser"]
 
-_COMMAND_MODULES = [calculator]
+_COMMAND_MODULES = [calculator, examples]
 
 # register later subcommands here (design, check, simulate, schema)
 try:  # pragma: no cover - present once the spec layer exists
@@ -47,6 +52,29 @@ def _version() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        code = _dispatch(argv)
+        sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+    except BrokenPipeError:
+        _discard_stdout()
+        return _EXIT_BROKEN_PIPE
+    return code
+
+
+#: exit code when standard output is closed early (128 + SIGPIPE, as a shell reports it)
+_EXIT_BROKEN_PIPE = 141
+
+
+def _discard_stdout() -> None:
+    """Point stdout at /dev/null so the interpreter's final flush does not fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # stdout without a file descriptor (tests)
+        pass
+
+
+def _dispatch(argv: Sequence[str] | None) -> int:
     from uio_ring.errors import NotObservableError, UioRingError
 
     parser = build_parser()
@@ -57,15 +85,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.run(args) or 0)
     except NotObservableError as exc:
-        if args.debug:
-            raise
-        print(f"uio-ring: {exc}", file=sys.stderr)
+        _report(exc, args.debug, f"uio-ring: {exc}")
         return 1
     except UioRingError as exc:
-        if args.debug:
-            raise
-        print(f"uio-ring: error: {exc}", file=sys.stderr)
+        _report(exc, args.debug, f"uio-ring: error: {exc}")
         return 2
+
+
+def _report(exc: BaseException, debug: bool, message: str) -> None:
+    """One line on stderr; with ``--debug`` the traceback first (the exit code stays the same)."""
+    if debug:
+        traceback.print_exception(exc, file=sys.stderr)
+    print(message, file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -9,22 +9,41 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 
 def add_parser(sub: Any) -> None:
-    p = sub.add_parser("check", help="structural report only (assumptions, invariants)")
+    p = sub.add_parser(
+        "check",
+        help="structural report only (assumptions, invariants)",
+        description="Read a spec file and report, for each design method, whether its assumptions hold "
+        "and why not. Designs nothing and writes nothing. Exit code 0 if a method applies, 1 if none "
+        "does, 2 for a bad spec.",
+    )
     p.add_argument("spec", help="spec file (YAML)")
     p.set_defaults(run=_run_check)
 
-    p = sub.add_parser("design", help="check, design, certify; write the design as JSON and YAML")
+    p = sub.add_parser(
+        "design",
+        help="check, design, certify; write the design as JSON and YAML",
+        description="Check the assumptions, design the observer exactly, verify its certificate and write "
+        "the design (JSON and YAML; reload with uio_ring.load_design). Exit code 0 if the certificate "
+        "holds, 1 if an assumption or the certificate fails, 2 for a bad spec.",
+    )
     p.add_argument("spec", help="spec file (YAML)")
     _output_options(p)
     p.add_argument("--latex", metavar="FILE", help="also write the design as a LaTeX file")
     p.set_defaults(run=_run_design)
 
-    p = sub.add_parser("simulate", help="design and simulate; write CSV/NPZ of t, x, y, x̂, error and PNG plots")
+    p = sub.add_parser(
+        "simulate",
+        help="design and simulate; write CSV/NPZ of t, x, y, x̂, error and PNG plots",
+        description="Design the observer as 'design' does, then simulate plant and observer numerically "
+        "(float64, with history buffers) over the spec's 'simulate' section: signals as CSV (or NPZ), "
+        "a PNG plot (needs matplotlib) and the design as JSON. Exit codes as for 'design'.",
+    )
     p.add_argument("spec", help="spec file (YAML) with a 'simulate' section")
     _output_options(p)
     p.add_argument("--npz", action="store_true", help="write NPZ instead of CSV")
@@ -33,7 +52,11 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     p.set_defaults(run=_run_simulate)
 
-    p = sub.add_parser("schema", help="print the JSON Schema of spec files")
+    p = sub.add_parser(
+        "schema",
+        help="print the JSON Schema of spec files",
+        description="Print the JSON Schema that spec files are validated against (for editors and tools).",
+    )
     p.set_defaults(run=_run_schema)
 
 
@@ -69,7 +92,7 @@ def _run_check(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
     system = spec.system
     print(f"{spec.name}: n_x = {system.n_x}, n_w = {system.n_w}, n_u = {system.n_u}, n_y = {system.n_y}, "
-          f"δ-degree {system.max_delay_degree}, h = {system.h}")
+          f"δ-degree {system.max_delay_degree}, {_delay_text(system)}")
     any_ok = False
     for name, holds, report, reason in _checks(spec):
         print(_rule(f"method {name}: {'applicable' if holds else 'NOT applicable'}"))
@@ -78,13 +101,25 @@ def _run_check(args: argparse.Namespace) -> int:
     return 0 if any_ok else 1
 
 
+def _delay_text(system: Any) -> str:
+    """``h = 0.01``, or why there is none (never Python's ``None``)."""
+    if system.h is not None:
+        text = f"{float(system.h):g}"
+        return f"h = {text}" if Fraction(text) == system.h else f"h = {system.h}"
+    return "delay-free (no h)" if system.is_delay_free else "h not given"
+
+
 def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
     from uio_ring.design.methods import design_auto, design_with
+    from uio_ring.errors import DimensionError, DomainError, SpecError
 
-    if spec.design.method == "auto":
-        res = design_auto(spec.system, **spec.design.options)
-        return res.design, res.method, res.skipped
-    return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
+    try:
+        if spec.design.method == "auto":
+            res = design_auto(spec.system, **spec.design.options)
+            return res.design, res.method, res.skipped
+        return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
+    except (DimensionError, DomainError) as exc:  # an option of the spec's design section does not fit
+        raise SpecError(str(exc), path="design") from exc
 
 
 def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, quiet: bool) -> None:
@@ -106,7 +141,9 @@ def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, 
         line += f", n_z = {design.n_z}"
     if hasattr(design, "lag"):
         h = spec.system.h
-        line += f", lag = {design.lag}" + (f" (estimate delayed by {float(design.lag * h):g} s)" if h else "")
+        line += f", lag = {design.lag}" + (
+            f" (x̂(t) estimates x(t) and needs {float(design.lag * h):g} s = {design.lag}·h of history)" if h else ""
+        )
     print(line)
 
 

@@ -1,6 +1,6 @@
-"""``DelayUIODesign``: the result of the Zheng–Bejarano design (paper 001), as named matrices.
+"""``DelayUIODesign``: the result of the Zheng–Bejarano design (Zheng et al. 2015), as named matrices.
 
-The observer (21) with the corrected gains (22′) of shared/ERRATA.md::
+The observer (21) with the corrected gains (22′) (docs/errata.md, Z1)::
 
     ξ' = L0 ξ + J(δ) Λ(δ) y + J_u(δ) u
     ẑ  = ξ + H(δ) Λ(δ) y + H_u(δ) u
@@ -51,7 +51,7 @@ def guard_blocks_for(sys: DelaySystem) -> int:
 # ----------------------------------------------------------------------------------------
 @dataclass(frozen=True, repr=False)
 class DelayUIODesign(ObserverDesign):
-    """The Zheng–Bejarano delay UIO: every matrix of Steps 1–5, named as in paper 001.
+    """The Zheng–Bejarano delay UIO: every matrix of Steps 1–5, named as in Zheng et al. (2015).
 
     Step 1: ``U M = [V; 0]`` (``M = [[CB, D], [D, 0]]``), ``Vbar V = [[B, 0], [D, 0]]``,
     ``W = [Vbar, 0] U = [K; Gamma] = [[K1, K2], [Gamma1, Gamma2]]``.
@@ -66,7 +66,9 @@ class DelayUIODesign(ObserverDesign):
     Step 5: ``L0 = A0 − G0 C0`` and ``H``, ``J`` from (22′).
 
     ``n_z = r·l*`` is the observer order and ``lag`` the δ-degree of
-    ``T_left_inverse`` (the estimate lags by ``lag·h``).  ``poles`` are the
+    ``T_left_inverse``: ``x̂(t)`` estimates ``x(t)`` itself (not a past value)
+    and is computed from ``ẑ`` over ``[t − lag·h, t]``, so it needs ``lag·h``
+    of history.  ``poles`` are the
     ``l*`` requested eigenvalues of ``A0 − G0 C0`` on each of the ``r`` output
     channels.  ``choice`` says how U, Λ and the left inverses were chosen.
     """
@@ -164,7 +166,7 @@ class DelayUIODesign(ObserverDesign):
     def __str__(self) -> str:
         lines = [
             f"Zheng–Bejarano delay UIO: n_z = {self.n_z} (r = {self.r} channels × l* = {self.l_star}), "
-            f"lag = {self.lag} (estimate delayed by {self.lag}·h)",
+            f"lag = {self.lag} (x̂(t) estimates x(t) from ẑ over the last {self.lag}·h)",
             f"  poles of A0 − G0 C0 on each channel: {[str(p) for p in self.poles]}",
             "  ξ' = L0 ξ + J Λ y" + (" + J_u u" if self.system.n_u else ""),
             "  ẑ  = ξ + H Λ y" + (" + H_u u" if self.system.n_u else ""),

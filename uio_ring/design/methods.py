@@ -222,7 +222,7 @@ def _register_builtin() -> None:
     register_method(
         DesignMethod(
             name="normal-form",
-            summary="observer normal form with robust exact differentiators (Niederwieser et al.); "
+            summary="observer normal form with robust exact differentiators (Niederwieser et al. 2022); "
             "delay-free, strongly observable systems, no matching condition needed",
             design_class=NormalFormDesign,
             check=normal_form_applicable,
@@ -230,7 +230,8 @@ def _register_builtin() -> None:
             certificate=normal_form_certificate,
             options=(
                 MethodOption("input_bounds", "rational_or_rationals", "bounds of |w| (of |w'| with "
-                             "reconstruct_input), one per unknown input or one for all", required=True),
+                             "reconstruct_input), one per unknown input or one for all", required=True,
+                             nonnegative=True),
                 MethodOption("reconstruct_input", "bool", "also reconstruct the unknown input w "
                              "(augmented state [x; w])"),
                 MethodOption("gains", "rational_rows", "differentiator gains per chain, top to bottom "

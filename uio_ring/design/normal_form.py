@@ -1,4 +1,4 @@
-"""The observer normal form of Niederwieser, Tranninger, Seeber & Reichhartinger (paper 000).
+"""The observer normal form of Niederwieser, Tranninger, Seeber & Reichhartinger (2022).
 
 For a strongly observable delay-free system (package notation; the paper's
 ``D`` is our ``B``, its ``B`` our ``E``, its ``F`` our ``D``)::
@@ -25,8 +25,9 @@ It converges in finite time if ``|w_i| ≤ L_i`` and the gains satisfy (18).
 * ``reconstruct_input=True``: Section 5.4, the system augmented with ``χ = [x; w]``
   (then ``input_bounds`` bound ``|w'|``), so that the observer also estimates ``w``.
 
-Everything is exact (python-flint rationals); the digest found that float64
-rank decisions give structurally wrong normal forms on ill-conditioned systems.
+Everything is exact (python-flint rationals): float64 rank decisions gave
+structurally wrong normal forms on ill-conditioned systems in our tests
+(docs/errata.md, N5).
 
 >>> from uio_ring import DelaySystem
 >>> sys = DelaySystem("[[0, 1], [-2, -3]]", "[[0], [1]]", "[[1, 0]]", None)
@@ -77,7 +78,7 @@ class Step1Trace:
 
 @dataclass(frozen=True, repr=False)
 class NormalFormDesign(ObserverDesign):
-    """An observer-normal-form design (paper 000), every matrix named as in the paper.
+    """An observer-normal-form design (Niederwieser et al. 2022), every matrix named as in the paper.
 
     The *model* is the system the normal form is computed for: the plant after
     the feed-through reduction (Appendix A) and, with ``reconstruct_input``, the
@@ -419,7 +420,7 @@ class _Step1:
 
 
 def _step1(A: Q, D: Q, C: Q) -> _Step1:
-    """The loop (28)–(40), round robin over active chains (digest 000 §2.1)."""
+    """The loop (28)–(40) of Step 1, round robin over the active chains."""
     n, p, m = A.nrows(), C.nrows(), D.ncols()
     Z = [[_row(C, j)] for j in range(p)]
     Psi = [[_row(qc.qidentity(p), j)] for j in range(p)]
@@ -509,7 +510,7 @@ def design_normal_form(
     lambdas: Sequence[Any] | None = None,
     report: NormalFormApplicability | None = None,
 ) -> NormalFormDesign:
-    """Observer normal form and RED observer of paper 000 for a delay-free system.
+    """Observer normal form and RED observer of Niederwieser et al. (2022) for a delay-free system.
 
     Parameters
     ----------
@@ -555,8 +556,9 @@ def design_normal_form(
     Algorithm
     ---------
     Niederwieser et al. (2022), Section 4.1, Steps 1–4, eqs. (28)–(54), with the
-    conventions of digest 000 §2: round robin over active chains, minimum-norm
-    ζ in (33), stable sort in (41), Step 3 by the explicit index formula.
+    these choices where the paper leaves them open: round robin over active chains,
+    minimum-norm ζ in (33), stable sort in (41), Step 3 by the element-wise form of
+    (11b) instead of the garbled (49) (docs/errata.md, N2).
     Appendix A.1 for ``D ≠ 0``; Section 5.4 for ``reconstruct_input``.
     Exact over Q; cost dominated by O(n) exact ranks of n×n matrices.
 

@@ -62,13 +62,15 @@ class MethodOption:
 
     ``name`` is the keyword of the design function and the key in the spec's
     ``design:`` section; ``kind`` one of :data:`KINDS`; ``doc`` one line for the
-    schema and ``uio-ring schema``; ``required`` options have no default.
+    schema and ``uio-ring schema``; ``required`` options have no default;
+    ``nonnegative`` options refuse negative numbers (the error names the entry).
     """
 
     name: str
     kind: str
     doc: str
     required: bool = False
+    nonnegative: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -76,6 +78,19 @@ class MethodOption:
 
     def read(self, value: Any, path: str) -> Any:
         """The option's value from plain data (a spec), exact; errors name ``path``."""
+        out = self._read(value, path)
+        if self.nonnegative:
+            self._check_nonnegative(out, path)
+        return out
+
+    def _check_nonnegative(self, value: Any, path: str) -> None:
+        if isinstance(value, tuple):
+            for i, v in enumerate(value):
+                self._check_nonnegative(v, f"{path}[{i}]")
+        elif isinstance(value, Fraction) and value < 0:
+            raise SpecError(f"{value} is negative; {self.name} must be ≥ 0", path=path)
+
+    def _read(self, value: Any, path: str) -> Any:
         if self.kind == "bool":
             if not isinstance(value, bool):
                 raise SpecError(f"expected true or false, got {value!r}", path=path)

@@ -1,15 +1,15 @@
-"""Gains of Levant's robust exact differentiator (RED) in the non-recursive form (14) of paper 000.
+"""Gains of Levant's robust exact differentiator (RED) in the non-recursive form (14) of Niederwieser et al. (2022).
 
 A chain of length μ carries the gains ``κ_{μ−1}, …, κ_1, κ_0`` (top row to bottom
 row); ``κ_k`` multiplies ``[σ]^{k/μ}``.  Levant's recursive parameters
-``λ_0, λ_1, …`` for a Lipschitz constant ``L`` convert as (digest 000 §2.5)::
+``λ_0, λ_1, …`` for a Lipschitz constant ``L`` convert as (Levant 2003; docs/errata.md, N4)::
 
     k̃_{μ−1} = λ_{μ−1},   k̃_{μ−1−i} = λ_{μ−1−i} · k̃_{μ−i}^{(μ−1−i)/(μ−i)},
     κ_{μ−1−i} = k̃_{μ−1−i} · L^{(i+1)/μ}
 
 so ``κ_0 = λ_0 L`` exactly.  With Levant's standard parameters and
 ``L = 10`` (μ = 4) and ``L = 112.272`` (μ = 3) this gives the printed gains (89)
-of paper 000.
+of Niederwieser et al. (2022).
 
 The other gains are irrational (fractional powers); they are returned as exact
 rationals rounded to 12 significant digits.  ``κ_0`` is exact, so the necessary
@@ -65,7 +65,7 @@ def levant_gains(mu: int, L: Any, *, lambdas: Sequence[Any] | None = None, digit
 
     Examples
     --------
-    The gains of block 1 of paper 000's (89): μ = 4, L = 10.
+    The gains of block 1 of (89) in Niederwieser et al. (2022): μ = 4, L = 10.
 
     >>> [round(float(k), 4) for k in levant_gains(4, 10)]
     [5.3348, 13.1556, 17.2047, 11.0]

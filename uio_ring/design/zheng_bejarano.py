@@ -1,4 +1,4 @@
-"""The delay unknown-input observer of Zheng, Bejarano, Perruquetti & Richard (paper 001).
+"""The delay unknown-input observer of Zheng, Bejarano, Perruquetti & Richard (2015).
 
 For ``x' = A(δ)x + B(δ)w + E(δ)u``, ``y = C(δ)x + D(δ)w + F(δ)u`` satisfying
 Assumptions 1 and 2, Steps 1–5 of the paper give the observer (21)::
@@ -8,7 +8,7 @@ Assumptions 1 and 2, Steps 1–5 of the paper give the observer (21)::
     x̂  = T_L⁻¹(δ) ẑ
 
 with the error ``e = T x − ẑ`` obeying ``e' = (A0 − G0 C0) e`` exactly.  ``H``
-and ``J`` follow the corrected formulas (22′) of shared/ERRATA.md (the printed
+and ``J`` follow the corrected formulas (22′) of docs/errata.md, Z1 (the printed
 (22) is wrong whenever ``[F, 0] Γ̄_i ≠ 0``).  ``J_u``, ``H_u`` carry the known
 input, which the paper does not treat: ``H_u = −H Λ F_u``,
 ``J_u = T E − J Λ F_u − H Λ C E`` (zero when there is no known input).
@@ -214,7 +214,7 @@ def _assemble(
         if index is None:  # pragma: no cover - excluded by Theorem 3 under Assumptions 1, 2
             raise UioRingError(
                 "no l* with Ō_l left unimodular although Assumptions 1 and 2 hold "
-                "(contradicts Theorem 3 of paper 001); please report this system"
+                "(contradicts Theorem 3 of Zheng et al. (2015)); please report this system"
             )
     l_star, O = index.l_star, index.O
     if O_left_inverse is None:
@@ -257,7 +257,7 @@ def zheng_bejarano_from_choices(
     T_left_inverse: Any = None,
     poles: Sequence[Any] | None = None,
 ) -> DelayUIODesign:
-    """Steps 1–5 of paper 001 with the choices made by the caller (no search, no
+    """Steps 1–5 of Zheng et al. (2015) with the choices made by the caller (no search, no
     assumption check).
 
     Useful to reproduce a published design: pass the paper's ``U`` and ``Λ``
@@ -377,7 +377,7 @@ def design_zheng_bejarano(
     sys: DelaySystem, poles: Sequence[Any] | str | None = None, *, rate: Any = None, search: bool = True,
     report: AssumptionsReport | None = None,
 ) -> DelayUIODesign:
-    """Design the delay unknown-input observer of paper 001 (Steps 1–5, with (19′)/(22′)).
+    """Design the delay unknown-input observer of Zheng et al. (2015) (Steps 1–5, with (19′)/(22′)).
 
     Parameters
     ----------
@@ -423,7 +423,7 @@ def design_zheng_bejarano(
     Algorithm
     ---------
     Zheng, Bejarano, Perruquetti & Richard (2015), Steps 1–5 of §4.4, with
-    (19′)/(22′) of shared/ERRATA.md.  The choices (U, Λ, the left inverses)
+    (19′)/(22′) of docs/errata.md (Z1).  The choices (U, Λ, the left inverses)
     do not change the observer's error dynamics but do change its order
     ``n_z = r·l*`` and the lag ``deg T_L⁻¹``.  They are made as follows, to
     minimise ``n_z`` first and then the lag:
@@ -556,7 +556,7 @@ def _smallest_observers(sys: DelaySystem, Us: list[tuple[str, PolyMatrix]], rho:
     if best_nz is None:  # pragma: no cover - Theorem 3
         raise UioRingError(
             "no choice of U gave a left-unimodular Ō_l although Assumptions 1 and 2 hold "
-            "(contradicts Theorem 3 of paper 001); please report this system"
+            "(contradicts Theorem 3 of Zheng et al. (2015)); please report this system"
         )
     return [c for c in scored if c.n_z == best_nz]
 

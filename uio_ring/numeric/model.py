@@ -60,7 +60,7 @@ def _stack(a: Any, rows: int, cols: int, name: str) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class LevantInjection:
-    """Robust exact differentiators, one chain per measured channel (paper 000, (13)–(14)).
+    """Robust exact differentiators, one chain per measured channel (Niederwieser et al. 2022, (13)–(14)).
 
     ``σ = sigma_y y + sigma_u u − ξ[starts]`` (one entry per chain).  Chain ``j``
     occupies the states ``starts[j] … starts[j] + lengths[j] − 1``; its row ``k``

@@ -1,6 +1,6 @@
 """Exact linear algebra over Q for *constant* matrices (δ-degree ≤ 0).
 
-The delay-free methods (paper 000 and friends) work with constant matrices
+The delay-free methods (Niederwieser et al. 2022 and related papers) work with constant matrices
 only; there the ring's polynomial algorithms are overkill.  This module is the
 one place that does rank, row echelon form, null spaces, inverses and
 minimum-norm solutions over Q, on python-flint ``fmpq_mat`` (the ring's scalar
@@ -259,7 +259,7 @@ def solve_by_peeling(H: QMat, w: QMat) -> QMat | None:
 
     Repeatedly takes an equation with exactly one unknown left (nonzero
     coefficient), solves it and substitutes: O(N²) operations instead of the
-    O(N³) of elimination — what makes Step 3 of paper 000 cheap, whose matrices
+    O(N³) of elimination — what makes Step 3 of Niederwieser et al. (2022) cheap, whose matrices
     ``H^{(j)}`` have this structure (``det H^{(j)} = 1``).
 
     >>> H = flint.fmpq_mat([[0, 2], [1, 3]])

@@ -1,11 +1,11 @@
 """``DelaySystem``: a linear system with commensurate delays over Q[δ].
 
-The one notation of the package (shared/DESIGN.md)::
+The one notation of the package (docs/notation.md)::
 
     x'(t) = A(δ) x + B(δ) w + E(δ) u        δ x(t) = x(t − h)
     y(t)  = C(δ) x + D(δ) w + F(δ) u
 
-``w`` is the unknown input (paper 001's ``u``), ``u`` the known input
+``w`` is the unknown input (Zheng et al.'s ``u``), ``u`` the known input
 (optional; ``E`` and ``F`` default to zero matrices with no columns).  A
 delay-free system is a ``DelaySystem`` whose matrices all have δ-degree 0.
 
@@ -476,7 +476,7 @@ def delay_system(
     unknown_inputs: NamesLike = None,
     inputs: NamesLike = None,
 ) -> DelaySystem:
-    """Factory in the python-control style (STYLE.md §9); same as :class:`DelaySystem`.
+    """Factory in the python-control style; same as :class:`DelaySystem`.
 
     >>> delay_system("[[d]]", "[[1]]", "[[1]]", states=["p"]).state_names
     ('p',)

@@ -1,4 +1,4 @@
-"""Certificate of a Zheng–Bejarano delay UIO (paper 001): every identity, exactly.
+"""Certificate of a Zheng–Bejarano delay UIO (Zheng et al. 2015): every identity, exactly.
 
 The checks read the design's named matrices and its ``system`` (duck-typed, so
 this module depends on the ring only).  Each check holds iff its residual is
@@ -11,7 +11,7 @@ The decisive one is *Theorem 4*: with ``z = T x``, the observer
               + [T B − (J − L0 H) Λ D − H Λ C B] w − H Λ D w'
               + [T E − (J − L0 H) Λ F − H Λ C E − J_u + L0 H_u] u − (H Λ F + H_u) u'
 
-(shared/ERRATA.md; the ``u`` terms are ours).  The observer is exact iff all
+(docs/errata.md, Z2; the ``u`` terms are ours).  The observer is exact iff all
 these coefficients vanish.
 
 >>> from uio_ring import DelaySystem, design_zheng_bejarano
@@ -58,7 +58,7 @@ def charpoly(M: PolyMatrix, var: str = "s") -> Poly:
 
 
 def delay_uio_certificate(design: Any) -> Certificate:
-    """All identities of Steps 1–5 and Theorem 4 of paper 001 for ``design``.
+    """All identities of Steps 1–5 and Theorem 4 of Zheng et al. (2015) for ``design``.
 
     Parameters
     ----------
@@ -221,4 +221,4 @@ def delay_uio_certificate(design: Any) -> Certificate:
     add("A0 − G0 C0 Hurwitz", "every requested pole is negative",
         lambda: None if all(q < 0 for q in d.poles)
         else f"poles {[str(q) for q in d.poles if q >= 0]} are not negative")
-    return Certificate("Zheng–Bejarano delay UIO (paper 001)", checks)
+    return Certificate("Zheng–Bejarano delay UIO (Zheng et al. 2015)", checks)

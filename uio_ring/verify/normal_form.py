@@ -1,4 +1,4 @@
-"""Certificate of an observer-normal-form design (paper 000): every identity, exactly.
+"""Certificate of an observer-normal-form design (Niederwieser et al. 2022): every identity, exactly.
 
 The checks read the design's named matrices (duck-typed).  Coordinates:
 ``x̄ = T⁻¹ x`` of the *model* (the plant after the feed-through reduction and,
@@ -224,4 +224,4 @@ def normal_form_certificate(design: Any) -> Certificate:
     ft = _feedthrough(d)
     if ft is not None:
         checks.append(residual_check("(A1) U D V", "U D V = [[I_{m_F}, 0], [0, 0]]", lambda: ft))
-    return Certificate("observer normal form (paper 000)", checks)
+    return Certificate("observer normal form (Niederwieser et al. 2022)", checks)
