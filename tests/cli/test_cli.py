@@ -130,3 +130,18 @@ def test_min_noise_example_lowers_the_simulated_error(tmp_path, capsys):
     assert peaks[1] * 3 <= peaks[0], peaks
     assert main(["design", str(EXAMPLES / "zheng2015_min_noise.yaml"), "--out", str(tmp_path / "d")]) == 0
     assert "noise gain per state" in capsys.readouterr().out
+
+
+def test_check_previews_the_design_and_names_other_methods(tmp_path, capsys):
+    """check prints what the zheng-bejarano design will be (n_z, how many poles, the default
+    poles); when the chosen method refuses and another applies, it says which."""
+    assert main(["check", str(EXAMPLES / "zheng2015.yaml")]) == 0
+    out = capsys.readouterr().out
+    assert "smallest observer: n_z = 6; poles takes l* = 2 or 3 value(s)" in out and "at -4" in out
+    text = (EXAMPLES / "aircraft_normal_form.yaml").read_text().replace("method: normal-form", "method: zheng-bejarano")
+    text = "\n".join(line for line in text.splitlines() if "input_bounds" not in line and "reconstruct_input" not in line)
+    spec = tmp_path / "air.yaml"
+    spec.write_text(text)
+    assert main(["check", str(spec)]) == 1
+    out = capsys.readouterr().out
+    assert "method normal-form applies to this system (needs the option(s) input_bounds)" in out

@@ -93,11 +93,21 @@ def _run_check(args: argparse.Namespace) -> int:
     system = spec.system
     print(f"{spec.name}: n_x = {system.n_x}, n_w = {system.n_w}, n_u = {system.n_u}, n_y = {system.n_y}, "
           f"δ-degree {system.max_delay_degree}, {_delay_text(system)}")
+    from uio_ring.design.methods import METHODS
+
     any_ok = False
-    for name, holds, report, reason in _checks(spec):
+    checked = _checks(spec)
+    for name, holds, report, reason in checked:
         print(_rule(f"method {name}: {'applicable' if holds else 'NOT applicable'}"))
         print(report if report is not None else reason)
+        if holds and METHODS[name].preview is not None:
+            print(METHODS[name].preview(system))
         any_ok = any_ok or holds
+    if not any_ok and spec.design.method != "auto":
+        others = [m for m in METHODS.values() if m.name != spec.design.method and m.applies(system)[0]]
+        for m in others:
+            needs = f" (needs the option(s) {', '.join(m.required)})" if m.required else ""
+            print(f"\nmethod {m.name} applies to this system{needs}: set design.method: {m.name}")
     return 0 if any_ok else 1
 
 

@@ -59,6 +59,9 @@ class DesignMethod:
         The keyword options (spec keys) it takes.
     delay_free_only : bool
         The method applies to delay-free systems only.
+    preview : callable, optional
+        ``preview(sys)`` → one line that ``uio-ring check`` prints when the method applies:
+        what the design will be and what its options must be (e.g. how many poles).
     """
 
     name: str
@@ -69,6 +72,7 @@ class DesignMethod:
     certificate: Callable[[Any], Any]
     options: tuple[MethodOption, ...] = ()
     delay_free_only: bool = False
+    preview: Callable[[DelaySystem], str] | None = None
 
     @property
     def option_names(self) -> tuple[str, ...]:
@@ -208,6 +212,7 @@ def _register_builtin() -> None:
             check=check_assumptions,
             design=design_zheng_bejarano,
             certificate=delay_uio_certificate,
+            preview=_preview_zheng_bejarano,
             options=(
                 MethodOption("poles", "poles", "l* exact rationals: the spectrum of A0 - G0 C0 on each "
                              "output channel; or min-noise: the poles of least peak-to-peak noise gain with "
@@ -247,6 +252,17 @@ def _register_builtin() -> None:
             delay_free_only=True,
         )
     )
+
+
+def _preview_zheng_bejarano(sys: DelaySystem) -> str:
+    from uio_ring.design.noise import default_rate
+    from uio_ring.design.zheng_bejarano import smallest_observer_orders
+
+    n_z, options = smallest_observer_orders(sys)
+    ls = " or ".join(str(l) for l in options)
+    rate = default_rate(sys)
+    return (f"smallest observer: n_z = {n_z}; poles takes l* = {ls} value(s); default: l* poles at "
+            f"-{rate} (rate = ceil(||A(1)||_inf)); poles: min-noise chooses them for noise")
 
 
 _register_builtin()

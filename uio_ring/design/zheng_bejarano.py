@@ -39,7 +39,7 @@ from uio_ring.ring.poly import exact_fraction
 from uio_ring.ring.solve import solve_left
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["DelayUIODesign", "design_zheng_bejarano", "zheng_bejarano_from_choices"]
+__all__ = ["DelayUIODesign", "design_zheng_bejarano", "zheng_bejarano_from_choices", "smallest_observer_orders"]
 
 _I = PolyMatrix.identity
 _Z = PolyMatrix.zeros
@@ -502,6 +502,20 @@ def design_zheng_bejarano(
         T_left_inverse=best.T_left_inverse, poles=_default_poles(sys, best.index.l_star, rate) if poles is None
         else poles, choice=best.choice, assumptions=report,
     )
+
+
+def smallest_observer_orders(sys: DelaySystem) -> tuple[int, tuple[int, ...]]:
+    """``(n_z, l* options)``: the smallest observer order the design search finds and the
+    numbers of poles (``l*``) that reach it — what ``poles`` must have.  Precondition:
+    Assumptions 1 and 2 hold (not checked).
+
+    >>> from uio_ring import DelaySystem
+    >>> smallest_observer_orders(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None))
+    (2, (1,))
+    """
+    rho, Us = _candidate_Us(sys)
+    cands = _smallest_observers(sys, Us, rho)
+    return cands[0].n_z, tuple(sorted({c.index.l_star for c in cands}))
 
 
 @dataclass(frozen=True)
