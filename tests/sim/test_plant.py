@@ -108,7 +108,7 @@ def test_constant_coefficient_system_is_exact_for_polynomial_input():
 def test_block_evaluations_agree(N, nblocks, K):
     """The four evaluations of the block map (per block, per sub-block, per group of blocks,
     scan) agree; 23 blocks of 4 = groups of 8 plus a remainder, N = 50 = 2 sub-blocks of 25."""
-    from uio_ring.sim._progress import Progress
+    from uio_ring.numeric.progress import Progress
 
     A = np.array([[[-0.5, 1.0], [0.0, -2.0]], [[0.3, 0.0], [-1.0, 0.2]], [[0.1, -0.2], [0.0, 0.3]]])[: K + 1]
     X0 = np.zeros((K * N + nblocks * N + 1, 2))

@@ -106,7 +106,14 @@ def test_progress_bar_on_request(paper_design, capsys):
     simulate(paper_design.system, h=0.01, t_final=0.2, dt=0.001, progress=True)
     err = capsys.readouterr().err
     assert "plant: [" in err and "100.0%" in err
-    from uio_ring.sim._progress import want_progress
+    # one bar for a whole observer run, plant and observer (here the loop of a differentiator)
+    from uio_ring import DelaySystem, design_normal_form, simulate_observer
+
+    des = design_normal_form(DelaySystem("[[0, 1], [-2, -3]]", "[[0], [1]]", "[[1, 0]]", None), [1])
+    simulate_observer(des, t_final=3.0, dt=1e-4, x0=[1, 0], progress=True)
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "simulate: [" in err and "100.0%" in err and "left" in err
+    from uio_ring.numeric.progress import want_progress
 
     assert want_progress(None, 10**9) is False  # PYTEST_CURRENT_TEST is set
 

@@ -415,8 +415,9 @@ class ObserverStepper:
         return self.trajectories(Y, U, **start).x_hat
 
     def trajectories(self, Y: Any, U: Any = None, *, x_hat0: Any = None, z0: Any = None, y_history: Any = None,
-                     u_history: Any = None) -> ObserverTrajectories:
-        """``x̂``, ``ŵ`` and ``ẑ`` for a whole record (see :meth:`run`)."""
+                     u_history: Any = None, progress: Any = None) -> ObserverTrajectories:
+        """``x̂``, ``ŵ``, ``ẑ`` and ``ξ`` for a whole record (see :meth:`run`); ``progress``:
+        an updater ``progress.update(steps done)`` (models with an injection term step in a loop)."""
         Yv = self._record(Y, self.n_y, "y")
         T = Yv.shape[1]
         Uv = np.zeros((self.n_u, T)) if U is None else self._record(U, self.n_u, "u")
@@ -429,7 +430,7 @@ class ObserverStepper:
             xi0 = self._initial_xi(x_hat0, Yrows, Urows, self.history_length, z0)
             if self.inj is None:
                 return self._run_linear(Yrows, Urows, T, xi0)
-            return self._run_loop(Yrows, Urows, T, xi0)
+            return self._run_loop(Yrows, Urows, T, xi0, progress)
 
     @staticmethod
     def _record(A: Any, n: int, name: str) -> np.ndarray:
@@ -489,7 +490,8 @@ class ObserverStepper:
             xi[1:] = LinearScan(self.Phi, chunk=16).run(xi0, self._forcing_table(G, T))
         return self._outputs(xi + D, xi, T)
 
-    def _run_loop(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi: np.ndarray) -> ObserverTrajectories:
+    def _run_loop(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi: np.ndarray,
+                  progress: Any = None) -> ObserverTrajectories:
         """Models with an injection term: one step at a time (the term is nonlinear)."""
         L = self.history_length
         Y, U = Yrows[L:], Urows[L:]
@@ -510,8 +512,11 @@ class ObserverStepper:
             else:  # euler
                 xi = xi + dt * (F @ xi + G[k + 1] + inj.l_of(Meas[k - 1] - xi[starts]))
             Xi[k] = xi
-            if k % 1024 == 0 and not np.all(np.isfinite(xi)):
-                raise SimulationError(f"the observer diverged near t = {k * dt:g} (dt = {dt:g})")
+            if k % 1024 == 0:
+                if not np.all(np.isfinite(xi)):
+                    raise SimulationError(f"the observer diverged near t = {k * dt:g} (dt = {dt:g})")
+                if progress is not None:
+                    progress.update(k)
         return self._outputs(Xi + D, Xi, T)
 
     def noise_gain(self, horizon: float | None = None) -> np.ndarray:

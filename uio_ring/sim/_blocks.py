@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
-from uio_ring.sim._progress import Progress
+from uio_ring.numeric.progress import Progress
 
 __all__ = ["BlockIntegrator", "block_integrator", "block_stencils"]
 

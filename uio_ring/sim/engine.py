@@ -25,6 +25,7 @@ import numpy as np
 from uio_ring.errors import DimensionError, NotSupportedError, SimulationError
 from uio_ring.numeric.convert import coefficient_arrays
 from uio_ring.numeric.grid import as_float, step_count
+from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.taps import delayed_sum
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import BlockIntegrator
@@ -138,13 +139,18 @@ def simulate_observer(
         if x_hat0 is not None:
             raise SimulationError("give x_hat0 or exact_start=True, not both")
         return _warm(model, stepper, sys, hv, t_final, w, u, x0, nz, progress)
-    res = plant_run(sys, h=hv, t_final=t_final, dt=stepper_dt, w=w, u=u, x0=x0, noise=nz, progress=progress)
-    L = stepper.history_length
-    u_hist = None
-    if model.n_u:
-        n_steps = res.t.size - 1
-        u_hist = input_samples(u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=stepper_dt, name="u")
-    traj = stepper.trajectories(res.y, res.u if model.n_u else None, x_hat0=x_hat0, u_history=u_hist)
+    steps = step_count(as_float(t_final, "t_final"), stepper_dt)
+    observer_steps = steps if model.injection is not None else 0  # a linear model runs vectorised
+    with Progress(steps + observer_steps, want_progress(progress, steps), "simulate") as bar:
+        res = plant_run(sys, h=hv, t_final=t_final, dt=stepper_dt, w=w, u=u, x0=x0, noise=nz,
+                        bar=bar.part(offset=0, scale=1))
+        L = stepper.history_length
+        u_hist = None
+        if model.n_u:
+            u_hist = input_samples(u, model.n_u, j_min=-L, j_max=-1, n_steps=res.t.size - 1, dt=stepper_dt,
+                                   name="u")
+        traj = stepper.trajectories(res.y, res.u if model.n_u else None, x_hat0=x_hat0, u_history=u_hist,
+                                    progress=bar.part(offset=steps, scale=1))
     return _result(res, traj, stepper, model)
 
 

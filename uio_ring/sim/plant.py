@@ -10,10 +10,10 @@ import numpy as np
 from uio_ring.numeric.convert import coefficient_arrays
 from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
 from uio_ring.numeric.history import sample_history
+from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.taps import delayed_sum
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import block_integrator
-from uio_ring.sim._progress import Progress, want_progress
 from uio_ring.sim.errors import SimulationError
 from uio_ring.sim.result import SimulationResult
 from uio_ring.sim.signals import as_noise, input_samples
@@ -85,6 +85,16 @@ def resolve_h(h: Any, sys_h: Any, *, what: str = "the system") -> float:
     return hv
 
 
+class _BlockSteps:
+    """Adapts the integrator's block count to steps for a progress updater."""
+
+    def __init__(self, bar: Any, N: int):
+        self.bar, self.N = bar, N
+
+    def update(self, k: int) -> None:
+        self.bar.update(k * self.N)
+
+
 def plant_run(
     sys: Any,
     *,
@@ -96,14 +106,17 @@ def plant_run(
     x0: Any = None,
     noise: Any = None,
     progress: bool | None = None,
+    bar: Any = None,
 ) -> SimulationResult:
-    """:func:`simulate` without its docstring (shared with :func:`simulate_observer`)."""
+    """:func:`simulate` without its docstring (shared with :func:`simulate_observer`);
+    ``bar``: an updater ``bar.update(steps done)`` of an enclosing progress bar."""
     with blas_single_thread():
-        return _plant_run(sys, h=h, t_final=t_final, dt=dt, w=w, u=u, x0=x0, noise=noise, progress=progress)
+        return _plant_run(sys, h=h, t_final=t_final, dt=dt, w=w, u=u, x0=x0, noise=noise, progress=progress,
+                          bar=bar)
 
 
 def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, x0: Any, noise: Any,
-               progress: bool | None) -> SimulationResult:
+               progress: bool | None, bar: Any = None) -> SimulationResult:
     S = SystemArrays.from_system(sys)
     hv = resolve_h(h, getattr(sys, "h", None), what="sys")
     dtv = as_float(dt, "dt")
@@ -139,8 +152,12 @@ def _plant_run(sys: Any, *, h: Any, t_final: Any, dt: Any, w: Any, u: Any, x0: A
     show = want_progress(progress, J)
     # the integrator wants exactly KA blocks of history before 0
     base = (Kh - KA) * N
-    with Progress(nblocks, show, "plant") as bar:
-        integ.run(X[base:], fin, nblocks, bar, end_fix=end_fix if np.any(end_fix) else None)
+    fix = end_fix if np.any(end_fix) else None
+    if bar is not None:  # a stage of the caller's bar, counted in steps
+        integ.run(X[base:], fin, nblocks, _BlockSteps(bar, N), end_fix=fix)
+    else:
+        with Progress(J, show, "plant") as own:
+            integ.run(X[base:], fin, nblocks, _BlockSteps(own, N), end_fix=fix)
 
     off_x = Kh * N
     Y = (
