@@ -61,13 +61,13 @@ def model_from_exact(*, F: Any, G_y: Any, X: Any, G_u: Any = None, D_y: Any = No
 
 
 def injection_from_exact(*, starts: tuple[int, ...], lengths: tuple[int, ...], gains: Any, sigma_y: Any,
-                         sigma_u: Any, discretisation: str = "implicit") -> LevantInjection:
+                         sigma_u: Any, sigma_xi: Any = None, discretisation: str = "implicit") -> LevantInjection:
     """:class:`LevantInjection` from exact gains and constant exact σ maps."""
     return LevantInjection(
         starts=tuple(starts), lengths=tuple(lengths),
         gains=tuple(tuple(float(k) for k in ks) for ks in gains),
         sigma_y=constant_array(sigma_y, "sigma_y"), sigma_u=constant_array(sigma_u, "sigma_u"),
-        discretisation=discretisation,
+        discretisation=discretisation, sigma_xi=None if sigma_xi is None else constant_array(sigma_xi, "sigma_xi"),
     )
 
 

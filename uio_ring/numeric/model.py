@@ -62,12 +62,16 @@ def _stack(a: Any, rows: int, cols: int, name: str) -> np.ndarray:
 class LevantInjection:
     """Robust exact differentiators, one chain per measured channel (Niederwieser et al. 2022, (13)–(14)).
 
-    ``σ = sigma_y y + sigma_u u − ξ[starts]`` (one entry per chain).  Chain ``j``
+    ``σ = sigma_y y + sigma_u u + sigma_xi ξ − ξ[starts]`` (one entry per chain; ``sigma_xi``
+    optional: a chain's measured signal may be built from other observer states, as in the
+    levels of a hierarchical super-twisting observer).  Chain ``j``
     occupies the states ``starts[j] … starts[j] + lengths[j] − 1``; its row ``k``
     (``k = 1 … μ``, ``μ = lengths[j]``) gets ``gains[j][k − 1] ⌈σ_j⌋^{(μ − k)/μ}``
     (``⌈σ⌋^0 = sign σ``).  The term enters ``ξ'`` with the identity (``K = I``).
 
-    ``discretisation`` is one of :data:`DISCRETISATIONS` (default ``"implicit"``).
+    ``discretisation`` is one of :data:`DISCRETISATIONS` (default ``"implicit"``).  The
+    implicit step solves the chains in order: ``σ_j`` may read the states of earlier chains
+    and of the linear part, not those of chain ``j`` or later ones (checked by the stepper).
     """
 
     starts: tuple[int, ...]
@@ -76,6 +80,7 @@ class LevantInjection:
     sigma_y: np.ndarray
     sigma_u: np.ndarray
     discretisation: str = "implicit"
+    sigma_xi: Any = None
 
     def __post_init__(self) -> None:
         if self.discretisation not in DISCRETISATIONS:
@@ -88,7 +93,8 @@ class LevantInjection:
 
     def with_discretisation(self, discretisation: str) -> LevantInjection:
         """The same term, discretised another way."""
-        return LevantInjection(self.starts, self.lengths, self.gains, self.sigma_y, self.sigma_u, discretisation)
+        return LevantInjection(self.starts, self.lengths, self.gains, self.sigma_y, self.sigma_u, discretisation,
+                               self.sigma_xi)
 
 
 @dataclass(frozen=True, eq=False)
@@ -261,6 +267,7 @@ class ObserverModel:
             "kind": "levant", "starts": list(inj.starts), "lengths": list(inj.lengths),
             "gains": [list(g) for g in inj.gains], "sigma_y": inj.sigma_y.tolist(),
             "sigma_u": inj.sigma_u.tolist(), "discretisation": inj.discretisation,
+            "sigma_xi": None if inj.sigma_xi is None else np.asarray(inj.sigma_xi).tolist(),
         }
         hi = self.held_input
         out["held_input"] = None if hi is None else {"A": hi.A.tolist(), "B": hi.B.tolist(), "M": hi.M.tolist()}
@@ -286,6 +293,7 @@ class ObserverModel:
             gains=tuple(tuple(g) for g in inj["gains"]), sigma_y=np.asarray(inj["sigma_y"], float),
             sigma_u=np.asarray(inj["sigma_u"], float).reshape(len(inj["starts"]), n_u),
             discretisation=inj["discretisation"],
+            sigma_xi=None if inj.get("sigma_xi") is None else np.asarray(inj["sigma_xi"], float),
         )
         hi = data.get("held_input")
         held = None if hi is None else HeldInput(*(np.asarray(hi[k], float) for k in "ABM"))

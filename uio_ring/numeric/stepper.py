@@ -19,7 +19,10 @@ grid ``dt = h/N`` (a delay-free model takes ``h = dt``):
   :class:`~uio_ring.numeric.model.HeldInput`: its exact effect is added and removed
   from the forcing before interpolating, so that jumps of u leave no residual;
 * the injection term (:class:`~uio_ring.numeric.model.LevantInjection`) ``"implicit"``
-  (σ at ``t_{k+1}``, set-valued sign: no chattering; chains solved in order),
+  (backward Euler: σ at ``t_{k+1}`` with the set-valued sign, the term entering with the
+  right-endpoint weight ``dt·e^{F dt}`` — in sliding, a chain's derivative estimate is the
+  backward difference of its input, so no step-to-step oscillation is left and a cascade
+  of differentiators stays first order in dt; chains solved in order),
   ``"explicit"`` (σ at ``t_k``) or ``"euler"`` (explicit Euler of the whole observer).
 
 Before the first sample, y and u are held at their first value unless histories
@@ -127,7 +130,14 @@ def _tap(M: np.ndarray, rows: np.ndarray, pos: int, N: int) -> np.ndarray:
 
 
 class _Injection:
-    """Float tables of a :class:`LevantInjection` for step ``dt`` and ``Kl = dt φ1(F dt)``."""
+    """Float tables of a :class:`LevantInjection` for step ``dt`` and ``Kl = dt φ1(F dt)``.
+
+    With ``R_j = sigma_xi[j] − e_{s_j}ᵀ`` (``s_j`` the chain's first state), ``σ_j`` at the
+    new time is ``meas_j + R_j (lin + Kl l)``; the weights of chain j's own terms in it,
+    ``w = −R_j Kl[:, chain j]``, must be positive (the step is then a monotone scalar
+    inclusion per chain) and ``R_j`` must not see later chains' terms (the chains are
+    solved in order).
+    """
 
     def __init__(self, inj: Any, Kl: np.ndarray, n: int):
         self.inj = inj
@@ -138,20 +148,40 @@ class _Injection:
         self.exp = [[(m - k) / m for k in range(1, m + 1)] for m in self.mu]
         self.exponents = [np.array(e) for e in self.exp]
         self.Kl, self.n = Kl, n
-        weights = [Kl[s, s : s + m].copy() for s, m in zip(self.starts, self.mu, strict=True)]
-        for j, wj in enumerate(weights):
+        p = len(self.starts)
+        Sxi = np.zeros((p, n)) if inj.sigma_xi is None else np.asarray(inj.sigma_xi, float)
+        self.Sxi = Sxi if np.any(Sxi) else None
+        R = Sxi.copy()
+        R[np.arange(p), list(self.starts)] -= 1.0
+        self.R = R
+        RK = R @ Kl  # (p, n): how σ_j moves with each injected term
+        scale = max(float(np.abs(RK).max()), 1e-300)
+        weights = []
+        for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
+            wj = -RK[j, s : s + m]
             if np.any(wj <= 0):
                 raise SimulationError(f"chain {j + 1}: the implicit weights {wj} are not positive "
                                       "(the model's F is not in normal form)")
+            later = [c for c in range(j + 1, p)]
+            for c in later:
+                sc, mc = self.starts[c], self.mu[c]
+                if np.any(np.abs(RK[j, sc : sc + mc]) > 1e-12 * scale):
+                    raise SimulationError(f"chain {j + 1}: its σ sees the terms of the later chain {c + 1}; "
+                                          "order the chains so that each reads only earlier ones")
+            weights.append(wj)
         self.coef = [[float(w[k - 1] * kap[k - 1]) for k in range(1, m)]
                      for w, kap, m in zip(weights, self.kap, self.mu, strict=True)]
         self.s0 = [float(w[m - 1] * kap[m - 1]) for w, kap, m in zip(weights, self.kap, self.mu, strict=True)]
-        self.Kl_rows = [Kl[s].copy() for s in self.starts]
+        self.RK = RK
         self.Sy, self.Su = np.asarray(inj.sigma_y, float), np.asarray(inj.sigma_u, float)
 
     def measured(self, y: np.ndarray, u: np.ndarray) -> np.ndarray:
         out = self.Sy @ y
         return out + self.Su @ u if self.Su.shape[1] else out
+
+    def sigma(self, meas: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """``σ = meas + sigma_xi ξ − ξ[starts]`` at one time."""
+        return meas + self.R @ xi
 
     def l_of(self, sigma: np.ndarray) -> np.ndarray:
         out = np.zeros(self.n)
@@ -163,10 +193,11 @@ class _Injection:
     def implicit(self, lin: np.ndarray, meas_next: np.ndarray) -> np.ndarray:
         """``lin + Kl l(σ_{k+1})`` with σ_{k+1} solved chain by chain (block triangular)."""
         lvec = np.zeros(self.n)
+        base = meas_next + self.R @ lin  # σ with no injection at all
         for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
-            a = float(meas_next[j] - lin[s])
+            a = float(base[j])
             if j:
-                a -= float(self.Kl_rows[j] @ lvec)  # earlier chains only
+                a += float(self.RK[j] @ lvec)  # earlier chains only (later entries are still 0)
             sig, sg = solve_chain(a, self.coef[j], self.s0[j], m)
             kap, ex = self.kap[j], self.exp[j]
             if sig == 0.0:
@@ -222,7 +253,10 @@ class ObserverStepper:
         self.W_first = stencil_weights(F * self.dt, self.dt, _NODES_FIRST, phis)
         self.W = stencil_weights(F * self.dt, self.dt, _NODES, phis) if self.cubic else self.W_first
         self.W_second = stencil_weights(F * self.dt, self.dt, _NODES_SECOND, phis)
-        self.Kl = self.dt * phis[1]
+        # injection weight: right endpoint (backward Euler) for the implicit step, exact for a
+        # term held over the step (dt φ1) for the explicit ones
+        implicit = model.injection is not None and model.injection.discretisation == "implicit"
+        self.Kl = self.dt * (phis[0] if implicit else phis[1])
         z = np.zeros
         self.Gy = model.G_y if model.G_y.shape[0] else z((1, nz, self.n_y))
         self.Gu = model.G_u if model.G_u.shape[0] else z((1, nz, self.n_u))
@@ -356,7 +390,7 @@ class ObserverStepper:
         g = self._g
         inj = self.inj
         if inj is not None and inj.method == "euler":
-            sigma = meas_prev - xi[list(inj.starts)]
+            sigma = inj.sigma(meas_prev, xi)
             new = xi + self.dt * (self.model.F @ xi + g[2] + inj.l_of(sigma))
             self._g = [g[1], g[2], g_new]
             return new
@@ -384,7 +418,7 @@ class ObserverStepper:
         if inj is None:
             return lin
         if inj.method == "explicit":
-            return lin + self.Kl @ inj.l_of(meas_prev - xi[list(inj.starts)])
+            return lin + self.Kl @ inj.l_of(inj.sigma(meas_prev, xi))
         return inj.implicit(lin, inj.measured(y_new, u_new))
 
     def _x_hat(self) -> np.ndarray:
@@ -502,15 +536,14 @@ class ObserverStepper:
         Xi = np.empty((T, self.n_z))
         Xi[0] = xi
         Phi, Kl, F, dt, method = self.Phi, self.Kl, self.model.F, self.dt, inj.method
-        starts = list(inj.starts)
         Fq = self._forcing_table(G, T) if T > 1 else np.zeros((0, self.n_z))
         for k in range(1, T):
             if method == "implicit":
                 xi = inj.implicit(Phi @ xi + Fq[k - 1], Meas[k])
             elif method == "explicit":
-                xi = Phi @ xi + Fq[k - 1] + Kl @ inj.l_of(Meas[k - 1] - xi[starts])
+                xi = Phi @ xi + Fq[k - 1] + Kl @ inj.l_of(inj.sigma(Meas[k - 1], xi))
             else:  # euler
-                xi = xi + dt * (F @ xi + G[k + 1] + inj.l_of(Meas[k - 1] - xi[starts]))
+                xi = xi + dt * (F @ xi + G[k + 1] + inj.l_of(inj.sigma(Meas[k - 1], xi)))
             Xi[k] = xi
             if k % 1024 == 0:
                 if not np.all(np.isfinite(xi)):
