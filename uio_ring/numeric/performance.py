@@ -131,10 +131,17 @@ def noise_kernel(model: ObserverModel, step: float, horizon: float) -> tuple[np.
     for m in range(1, T):
         E[m] = Phi @ E[m - 1]
     K = np.zeros((T, model.n_x, model.n_y))
-    for c, Xa, Gb in _pairs(model):
-        s = c * per
-        if s < T:
-            K[s:] += np.einsum("ij,mjk,kl->mil", Xa, E[: T - s], Gb, optimize=True)
+    EG: dict[int, np.ndarray] = {}  # e^{F t} G_b on the grid, shared by the pairs with the same b
+    for b in range(model.G_y.shape[0]):
+        if np.any(model.G_y[b]):
+            EG[b] = E @ model.G_y[b]
+    for a in range(model.X.shape[0]):
+        if not np.any(model.X[a]):
+            continue
+        for b, Eb in EG.items():
+            s = (a + b) * per
+            if s < T:
+                K[s:] += model.X[a] @ Eb[: T - s]
     return np.arange(T) * step, K
 
 
