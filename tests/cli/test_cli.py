@@ -103,12 +103,15 @@ def test_auto_picks_the_normal_form_for_the_aircraft_and_says_why(tmp_path, caps
 
 
 def test_auto_without_input_bounds_names_the_missing_option(tmp_path, capsys):
+    """Without input bounds the normal form is skipped (and auto says why); the aircraft is
+    strongly observable, so the hierarchical super-twisting observer applies."""
     text = (EXAMPLES / "aircraft_normal_form.yaml").read_text().split("design:")[0]
     spec = tmp_path / "aircraft_nobounds.yaml"
     spec.write_text(text + "design:\n  method: auto\n")
-    assert main(["design", str(spec), "--out", str(tmp_path)]) == 1
-    err = capsys.readouterr().err
-    assert "zheng-bejarano" in err and "needs design option(s) input_bounds" in err
+    assert main(["design", str(spec), "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "auto skipped normal-form: needs design option(s) input_bounds" in out
+    assert "auto skipped zheng-bejarano" in out and "method hierarchical-sta, certificate ok" in out
 
 
 def _max_error_after_settle(out: str) -> float:

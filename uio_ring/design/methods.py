@@ -196,11 +196,14 @@ def design_auto(sys: DelaySystem, **options: Any) -> AutoResult:
 
 def _register_builtin() -> None:
     from uio_ring.analysis.assumptions import check_assumptions
+    from uio_ring.analysis.molinari import molinari_sequence
     from uio_ring.analysis.normal_form_applicability import normal_form_applicable
     from uio_ring.design.delay_uio_design import DelayUIODesign
+    from uio_ring.design.hierarchical_sta import HierarchicalSTADesign, design_hierarchical_sta
     from uio_ring.design.normal_form import NormalFormDesign, design_normal_form
     from uio_ring.design.zheng_bejarano import design_zheng_bejarano
     from uio_ring.verify.delay_uio import delay_uio_certificate
+    from uio_ring.verify.hierarchical_sta import hierarchical_sta_certificate
     from uio_ring.verify.normal_form import normal_form_certificate
 
     register_method(
@@ -252,6 +255,35 @@ def _register_builtin() -> None:
             delay_free_only=True,
         )
     )
+    register_method(
+        DesignMethod(
+            name="hierarchical-sta",
+            summary="hierarchical super-twisting observer (Bejarano, Fridman & Poznyak 2007); delay-free, "
+            "strongly observable systems, feed-through of w allowed, no matching condition needed",
+            design_class=HierarchicalSTADesign,
+            check=molinari_sequence,
+            design=design_hierarchical_sta,
+            certificate=hierarchical_sta_certificate,
+            preview=_preview_hierarchical_sta,
+            options=(
+                MethodOption("K", "rational_rows", "Luenberger gain, n_x x n_y, A - K C Hurwitz (default: 0 "
+                             "when A is Hurwitz, else the gain placing poles)"),
+                MethodOption("poles", "rationals", "n_x exact rationals: spec(A - K C) (default -1, ..., -n_x "
+                             "when A is not Hurwitz)"),
+                MethodOption("gains", "rational_rows", "[lambda, alpha] of the super-twisting terms per level "
+                             "(l - 1 levels; default [15, 10])"),
+            ),
+            delay_free_only=True,
+        )
+    )
+
+
+def _preview_hierarchical_sta(sys: DelaySystem) -> str:
+    from uio_ring.analysis.molinari import molinari_sequence
+
+    seq = molinari_sequence(sys)
+    return (f"l = {seq.l}: {max((seq.l or 1) - 1, 0)} super-twisting level(s); gains takes "
+            f"{max((seq.l or 1) - 1, 0)} pair(s) [lambda, alpha]")
 
 
 def _preview_zheng_bejarano(sys: DelaySystem) -> str:
