@@ -509,17 +509,6 @@ def _read_design(data: dict[str, Any]) -> DesignSpec:
     return DesignSpec(method=method, options={k: owners[k].read(v, f"design.{k}") for k, v in raw.items()})
 
 
-def _exact(value: Any, path: str) -> Fraction:
-    from uio_ring.ring.poly import exact_fraction
-
-    if isinstance(value, float) and not math.isfinite(value):
-        raise SpecError(f"{value} is not a finite number", path=path)
-    try:
-        return exact_fraction(value, path)
-    except (DomainError, ParseError) as exc:
-        raise SpecError(f"{value!r} is not an exact rational ({exc})", path=path) from None
-
-
 def _texts(value: Any, count: int, path: str, what: str, *, allow_broadcast: bool = False) -> tuple[str, ...]:
     from uio_ring.spec.expressions import parse_signal
 
