@@ -174,6 +174,32 @@ class _Injection:
         self.s0 = [float(w[m - 1] * kap[m - 1]) for w, kap, m in zip(weights, self.kap, self.mu, strict=True)]
         self.RK = RK
         self.Sy, self.Su = np.asarray(inj.sigma_y, float), np.asarray(inj.sigma_u, float)
+        self.layers = self._layers(scale)
+
+    def _layers(self, scale: float) -> list[tuple[np.ndarray, list[int]]]:
+        """Consecutive chains that do not see each other, solved together: ``(index array of
+        the chains of length 2 (closed form, vectorised), other chains (one at a time))``."""
+        out: list[list[int]] = []
+        for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
+            cur = out[-1] if out else None
+            sees = cur is not None and any(
+                np.any(np.abs(self.RK[j, self.starts[c] : self.starts[c] + self.mu[c]]) > 1e-12 * scale)
+                for c in cur)
+            if cur is None or sees:
+                out.append([j])
+            else:
+                cur.append(j)
+        layers = []
+        for group in out:
+            pairs = np.array([j for j in group if self.mu[j] == 2], dtype=int)
+            layers.append((pairs, [j for j in group if self.mu[j] != 2]))
+        if any(len(p) for p, _ in layers):
+            self._c1 = np.array([c[0] if len(c) else 0.0 for c in self.coef])
+            self._s0 = np.array(self.s0)
+            self._k_top = np.array([k[0] for k in self.kap])
+            self._k_sign = np.array([k[-1] for k in self.kap])
+            self._st = np.array(self.starts)
+        return layers
 
     def measured(self, y: np.ndarray, u: np.ndarray) -> np.ndarray:
         out = self.Sy @ y
@@ -191,23 +217,42 @@ class _Injection:
         return out
 
     def implicit(self, lin: np.ndarray, meas_next: np.ndarray) -> np.ndarray:
-        """``lin + Kl l(σ_{k+1})`` with σ_{k+1} solved chain by chain (block triangular)."""
+        """``lin + Kl l(σ_{k+1})`` with σ_{k+1} solved layer by layer (block triangular); in a
+        layer, the chains of length 2 (super-twisting) by their closed form at once."""
         lvec = np.zeros(self.n)
         base = meas_next + self.R @ lin  # σ with no injection at all
-        for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
-            a = float(base[j])
-            if j:
-                a += float(self.RK[j] @ lvec)  # earlier chains only (later entries are still 0)
-            sig, sg = solve_chain(a, self.coef[j], self.s0[j], m)
-            kap, ex = self.kap[j], self.exp[j]
-            if sig == 0.0:
-                lvec[s + m - 1] = kap[m - 1] * sg
-            else:
-                mag, sgn = abs(sig), math.copysign(1.0, sig)
-                for k in range(m - 1):
-                    lvec[s + k] = kap[k] * mag ** ex[k] * sgn
-                lvec[s + m - 1] = kap[m - 1] * sg
+        for pairs, others in self.layers:
+            if len(pairs):
+                a = base[pairs] + self.RK[pairs] @ lvec
+                self._solve_pairs(pairs, a, lvec)
+            for j in others:
+                self._solve_one(j, float(base[j] + self.RK[j] @ lvec), lvec)
         return lin + self.Kl @ lvec
+
+    def _solve_pairs(self, idx: np.ndarray, a: np.ndarray, lvec: np.ndarray) -> None:
+        """Chains of length 2: ``σ + c1 ⌈σ⌋^½ + s0 sign σ ∋ a`` in closed form (``s = |σ|^½``
+        solves ``s² + c1 s = |a| − s0``); fills their entries of ``lvec``."""
+        c1, s0 = self._c1[idx], self._s0[idx]
+        excess = np.abs(a) - s0
+        sliding = excess <= 0.0
+        s = np.where(sliding, 0.0, (-c1 + np.sqrt(c1 * c1 + 4.0 * np.maximum(excess, 0.0))) / 2.0)
+        sgn = np.sign(a)
+        sg = np.where(sliding, a / s0, sgn)
+        st = self._st[idx]
+        lvec[st] = self._k_top[idx] * s * sgn  # κ ⌈σ⌋^½ with |σ|^½ = s
+        lvec[st + 1] = self._k_sign[idx] * sg
+
+    def _solve_one(self, j: int, a: float, lvec: np.ndarray) -> None:
+        s, m = self.starts[j], self.mu[j]
+        sig, sg = solve_chain(a, self.coef[j], self.s0[j], m)
+        kap, ex = self.kap[j], self.exp[j]
+        if sig == 0.0:
+            lvec[s + m - 1] = kap[m - 1] * sg
+        else:
+            mag, sgn = abs(sig), math.copysign(1.0, sig)
+            for k in range(m - 1):
+                lvec[s + k] = kap[k] * mag ** ex[k] * sgn
+            lvec[s + m - 1] = kap[m - 1] * sg
 
 
 class ObserverStepper:
