@@ -180,7 +180,7 @@ class _Injection:
         """Consecutive chains that do not see each other, solved together: ``(index array of
         the chains of length 2 (closed form, vectorised), other chains (one at a time))``."""
         out: list[list[int]] = []
-        for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
+        for j in range(len(self.starts)):
             cur = out[-1] if out else None
             sees = cur is not None and any(
                 np.any(np.abs(self.RK[j, self.starts[c] : self.starts[c] + self.mu[c]]) > 1e-12 * scale)
