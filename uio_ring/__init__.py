@@ -22,6 +22,7 @@ _LAZY: dict[str, str] = {
     # ring (issue 2)
     "PolyMatrix": "uio_ring.ring.matrix",
     "Poly": "uio_ring.ring.poly",
+    "QMatrix": "uio_ring.ring.qmatrix",
     "hermite": "uio_ring.ring.hermite",
     "HermiteResult": "uio_ring.ring.hermite",
     "is_hermite": "uio_ring.ring.hermite",

@@ -24,6 +24,7 @@ from uio_ring.ring.inverse import (
 from uio_ring.ring.kernel import left_kernel, right_kernel
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import Poly
+from uio_ring.ring.qmatrix import QMatrix, RowEchelon
 from uio_ring.ring.rank import det, rank
 from uio_ring.ring.smith import SmithResult, invariant_factors, is_smith, smith
 from uio_ring.ring.solve import solve_left, solve_right
@@ -50,6 +51,8 @@ __all__ = [
     "right_kernel",
     "PolyMatrix",
     "Poly",
+    "QMatrix",
+    "RowEchelon",
     "det",
     "rank",
     "SmithResult",

@@ -1,14 +1,13 @@
-"""Exact linear algebra over Q for *constant* matrices (δ-degree ≤ 0).
+"""Exact linear algebra over Q on python-flint ``fmpq_mat``: the kernel behind ``QMatrix``.
 
 The delay-free methods (Niederwieser et al. 2022 and related papers) work with constant matrices
 only; there the ring's polynomial algorithms are overkill.  This module is the
 one place that does rank, row echelon form, null spaces, inverses and
-minimum-norm solutions over Q, on python-flint ``fmpq_mat`` (the ring's scalar
-backend) — exact, no tolerances.
+minimum-norm solutions over Q — exact, no tolerances.
 
-Matrices enter and leave as :class:`~uio_ring.ring.matrix.PolyMatrix` through
-:func:`qmat` and :func:`to_polymatrix`; in between, algorithms use ``fmpq_mat``
-directly.
+It is ring-internal: its functions take and return mutable ``fmpq_mat`` and
+do little validation.  The layers above the ring use the immutable façade
+:class:`~uio_ring.ring.qmatrix.QMatrix`, whose methods delegate here.
 
 >>> from uio_ring.ring.matrix import PolyMatrix
 >>> Q = qmat(PolyMatrix("[[1, 2], [2, 4]]"))
