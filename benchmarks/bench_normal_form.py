@@ -58,7 +58,7 @@ def random_system(n: int, seed: int, *, balanced: bool = False) -> tuple[DelaySy
         B = [[rng.randint(-2, 2) for _ in range(m)] for _ in range(n)]
         C = [[rng.randint(-2, 2) for _ in range(n)] for _ in range(p)]
         sys_ = DelaySystem(A, B, C, None)
-        if normal_form_applicable(sys_).ok:
+        if normal_form_applicable(sys_).holds:
             return sys_, draws
 
 

@@ -37,7 +37,7 @@ from uio_ring.errors import DomainError
 def test_aircraft_strongly_observable_and_zero_free():
     sys = paper000.aircraft()
     rep = is_strongly_observable(sys)
-    assert rep.ok and rep.reason == ""
+    assert rep.holds and rep.reason == ""
     z = rep.invariant_zeros
     assert z.normal_rank == 8 and z.factors == () and z.polynomial == Poly(1, "s") and z.roots == ()
     assert rep.dim_V_star == 0 and rep.left_invertible
@@ -58,19 +58,19 @@ def test_aircraft_structure_and_matching_condition():
     assert infinite_zero_structure(sys).orders == (3,)
     assert normal_form_chain_lengths(sys) == (4, 3)  # claim 19: d = (2, 4, 6, 7, 7)
     rep = normal_form_applicable(sys)
-    assert rep.ok and rep.matching_condition is False
+    assert rep.holds and rep.matching_condition is False
     assert "matching condition fails" in rep.summary
     # strong* detectability needs the rank condition, which CD = 0 violates
     star = is_strong_star_detectable(sys)
-    assert not star.ok and "rank (observer-matching) condition fails" in star.reason
-    assert is_strongly_detectable(sys).ok
+    assert not star.holds and "rank (observer-matching) condition fails" in star.reason
+    assert is_strongly_detectable(sys).holds
 
 
 def test_augmented_aircraft_chain_lengths():
     sys = paper000.aircraft(known_input=False)
     A = [list(r) + [w[0]] for r, w in zip(paper000.A, paper000.W, strict=True)] + [[0] * 8]
     aug = DelaySystem(A, [[0]] * 7 + [[1]], [list(r) + [0] for r in paper000.C], None)
-    assert is_strongly_observable(aug).ok  # (93)
+    assert is_strongly_observable(aug).holds  # (93)
     assert normal_form_chain_lengths(aug) == (4, 4)
     assert normal_form_chain_lengths(sys) == (4, 3)
 
@@ -82,11 +82,11 @@ def test_paper003_zero_at_minus_10_detectable_not_observable():
     assert z.polynomial == Poly("s + 10", "s") and z.normal_rank == 10
     assert z.roots == (-10 + 0j,)
     so, sd, ss = is_strongly_observable(sys), is_strongly_detectable(sys), is_strong_star_detectable(sys)
-    assert not so.ok and "roots of s + 10" in so.reason and so.dim_V_star == 1
-    assert sd.ok
-    assert not ss.ok and ss.rank_condition is not None and not ss.rank_condition.hautus_rank_condition
+    assert not so.holds and "roots of s + 10" in so.reason and so.dim_V_star == 1
+    assert sd.holds
+    assert not ss.holds and ss.rank_condition is not None and not ss.rank_condition.hautus_rank_condition
     assert infinite_zero_structure(sys).orders == (2, 3)
-    assert not normal_form_applicable(sys).ok
+    assert not normal_form_applicable(sys).holds
 
 
 # ---------------------------------------------------------------------------- small cases
@@ -104,7 +104,7 @@ def test_paper003_zero_at_minus_10_detectable_not_observable():
 def test_small_systems(A, B, C, D, so, sd):
     sys = DelaySystem(A, B, C, D)
     r_so, r_sd = is_strongly_observable(sys), is_strongly_detectable(sys)
-    assert (r_so.ok, r_sd.ok) == (so, sd)
+    assert (r_so.holds, r_sd.holds) == (so, sd)
     assert (r_so.reason == "") == so and (r_sd.reason == "") == sd
     assert r_so.to_dict()["holds"] == so and str(r_so).startswith("strongly observable")
     assert (r_so.dim_V_star == 0) == so
@@ -113,9 +113,9 @@ def test_small_systems(A, B, C, D, so, sd):
 def test_redundant_unknown_inputs_do_not_spoil_strong_observability():
     """``rank [B; D]`` (not n_w) is the target rank: w = [w1, w2] entering as w1 + w2."""
     sys = DelaySystem("[[0, 1], [0, 0]]", "[[0, 0], [1, 1]]", "[[1, 0]]", None)
-    assert is_strongly_observable(sys).ok
+    assert is_strongly_observable(sys).holds
     rep = normal_form_applicable(sys)
-    assert not rep.ok and "dependent" in rep.reason
+    assert not rep.holds and "dependent" in rep.reason
 
 
 def test_delay_system_refused():
@@ -123,13 +123,13 @@ def test_delay_system_refused():
     with pytest.raises(DomainError, match="δ-degree 1"):
         rosenbrock_matrix(sys)
     rep = normal_form_applicable(sys)
-    assert not rep.ok and "delays" in rep.reason and rep.strong_observability is None
+    assert not rep.holds and "delays" in rep.reason and rep.strong_observability is None
 
 
 def test_relative_degree_infinite_and_zero():
     sys = DelaySystem("[[0, 0], [0, 0]]", "[[1], [0]]", "[[0, 1], [1, 0]]", "[[0], [1]]")
     assert relative_degrees(sys).degrees == (None, 0)
-    assert not relative_degrees(sys).ok and "y[0]" in relative_degrees(sys).reason
+    assert not relative_degrees(sys).holds and "y[0]" in relative_degrees(sys).reason
 
 
 # ---------------------------------------------------------------------------- Routh test
@@ -171,8 +171,8 @@ def test_paper001_assumption_1_agrees_with_strong_observability():
         sys = _random_system(rng)
         so = is_strongly_observable(sys)
         a1 = unknown_input_observability(sys)
-        assert so.ok == a1.holds, (sys, so.reason, a1.reason)
-        seen.add(so.ok)
+        assert so.holds == a1.holds, (sys, so.reason, a1.reason)
+        seen.add(so.holds)
     assert seen == {True, False}
 
 
@@ -183,12 +183,12 @@ def test_V_star_matches_independent_implementation_and_smith():
         V = weakly_unobservable_subspace(sys)
         mats = [sympy.Matrix(M.to_sympy()) if M.rows and M.cols else sympy.zeros(M.rows, M.cols) for M in
                 (sys.A, sys.B, sys.C, sys.D)]
-        assert V.ncols() == weakly_unobservable_dim(*mats)
+        assert V.cols == weakly_unobservable_dim(*mats)
         so = is_strongly_observable(sys)
-        assert so.ok == (V.ncols() == 0)
+        assert so.holds == (V.cols == 0)
         # dim V* = (number of invariant zeros) when left invertible
         if so.left_invertible:
-            assert V.ncols() == so.invariant_zeros.count
+            assert V.cols == so.invariant_zeros.count
 
 
 def test_chain_lengths_are_a_partition_of_n_when_strongly_observable():
@@ -196,7 +196,7 @@ def test_chain_lengths_are_a_partition_of_n_when_strongly_observable():
     count = 0
     for _ in range(60):
         sys = _random_system(rng)
-        if sys.D.is_zero() and normal_form_applicable(sys).ok:
+        if sys.D.is_zero() and normal_form_applicable(sys).holds:
             mu = normal_form_chain_lengths(sys)
             assert sum(mu) == sys.n_x and list(mu) == sorted(mu, reverse=True)
             count += 1

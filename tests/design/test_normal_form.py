@@ -53,7 +53,7 @@ def test_aircraft_step1(aircraft_design):
     assert all(Xi[i][j] == 0 for i in range(7) for j in range(2) if (i, j) != (4, 0))
 
 
-def test_aircraft_T_A_bar_B_bar(aircraft_design):
+def test_aircraft_T_A_bar_E_bar(aircraft_design):
     d = aircraft_design
     assert _q(d.T) == [[Fr(x) for x in r] for r in paper000.T]
     A = _q(d.A_bar)
@@ -61,8 +61,8 @@ def test_aircraft_T_A_bar_B_bar(aircraft_design):
     assert [A[i][4] for i in range(7)] == paper000.ALPHA_5
     assert d.beta == {(1, 2, 3): paper000.BETA_123}  # β_{1,2,1} = β_{1,2,2} = 0 by (53)
     assert A[6][3] == paper000.BETA_123
-    assert _q(d.B_bar) == [[Fr(x) for x in r] for r in paper000.B_BAR]
-    assert _q(d.D_bar) == [[0]] * 6 + [[Fr(-7017, 10)]]
+    assert _q(d.E_bar) == [[Fr(x) for x in r] for r in paper000.E_BAR]
+    assert _q(d.B_bar) == [[0]] * 6 + [[Fr(-7017, 10)]]
     assert _q(d.C_bar) == [[1, 0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 1, 0, 0]]
     # T⁻¹ rows 1 and 5 are č_1, č_2
     Ti = _q(d.T_inverse)
@@ -83,7 +83,7 @@ def test_aircraft_certificate_and_gains(aircraft_design):
         assert all(abs(k - Fr(p)) <= Fr(6, 100000) for k, p in zip(ks, printed, strict=True))
     # (18): κ_{2,0} = 123.4992 > L|d̄_7| = 14.034 (exact); chain 1 has no input
     assert d.condition_18() == ((11, 0), (Fr("123.4992"), Fr("14.034")))
-    assert d.d_bar_rows() == ((0,), (Fr(-7017, 10),))
+    assert d.b_bar_rows() == ((0,), (Fr(-7017, 10),))
 
 
 def test_aircraft_data_and_display(aircraft_design):
@@ -101,7 +101,7 @@ def test_augmented_design(augmented_design):
     A = _q(d.A_bar)
     assert A[3][0] == Fr(-338379273, 17060800) and A[7][0] == Fr(6213, 4678)
     assert A[0][0] == Fr(-208617, 11695)  # −17.8381 in (94)
-    assert _q(d.D_bar) == [[0]] * 3 + [[Fr(-7017, 10)]] + [[0]] * 4
+    assert _q(d.B_bar) == [[0]] * 3 + [[Fr(-7017, 10)]] + [[0]] * 4
     # (95) to the printed decimals with L = 3.8·32.2782 and 10
     for ks, printed in zip(d.kappa, paper000.GAINS_95, strict=True):
         assert all(abs(k - Fr(p)) <= Fr(6, 100000) for k, p in zip(ks, printed, strict=True))
@@ -140,7 +140,7 @@ def test_zheng_bejarano_refuses_aircraft_normal_form_applies():
     with pytest.raises(NotObservableError):
         design_zheng_bejarano(sys)
     rep = normal_form_applicable(sys)
-    assert rep.ok and "applies" in rep.summary and "matching condition fails" in rep.summary
+    assert rep.holds and "applies" in rep.summary and "matching condition fails" in rep.summary
     assert rep.to_dict()["matching_condition"] is False
 
 
@@ -148,13 +148,13 @@ def test_zheng_bejarano_refuses_aircraft_normal_form_applies():
 def test_paper001_at_delta_zero_with_feedthrough():
     sys = paper001.system().at_delta(0)
     d = design_normal_form(sys, [1, 1])
-    assert d.m_F == 1 and d.mu == (3, 1) and d.nu == (3, 1)
+    assert d.rank_D == 1 and d.mu == (3, 1) and d.nu == (3, 1)
     assert _q(d.Gamma) == [[1, 0], [0, 1]]
     assert _q(d.Xi) == [[0, -1], [0, 0], [0, 0], [0, 0]]
     assert d.beta == {(1, 2, 1): 5, (1, 2, 2): -3}
     assert _q(d.T) == [[2, -1, 0, 0], [1, 0, 0, 0], [-4, 2, -1, 1], [4, -2, 1, 0]]
     assert _q(d.A_bar) == [[-2, 1, 0, 0], [1, 0, 1, -1], [3, 0, 0, -1], [-9, 5, -3, 2]]
-    assert _q(d.D_bar) == [[0], [0], [0], [1]]
+    assert _q(d.B_bar) == [[0], [0], [0], [1]]
     assert _q(d.C_bar) == [[1, 0, 0, 0], [0, 0, 0, 1]]
     cert = d.certificate()
     assert cert.ok and cert["(A1) U D V"].ok and cert["plant ↔ normal form"].ok
@@ -164,7 +164,7 @@ def test_paper001_at_delta_zero_with_feedthrough():
 def test_refusals_carry_the_report():
     with pytest.raises(NotObservableError, match="invariant zero") as exc:
         design_normal_form(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[0, 1]]", None), [1])
-    assert not exc.value.report.ok
+    assert not exc.value.report.holds
     with pytest.raises(NotObservableError, match="delays"):
         design_normal_form(DelaySystem("[[d]]", "[[1]]", "[[1]]", None), [1])
     with pytest.raises(NotObservableError, match="dependent"):
@@ -180,7 +180,7 @@ def _random_so_system(rng: random.Random, n: int, m: int, p: int, feedthrough: b
         D = [[rng.randint(-1, 1) if rng.random() < 0.4 else 0 for _ in range(m)] for _ in range(p)] if feedthrough else None
         E = [[rng.randint(-1, 1)] for _ in range(n)]
         sys = DelaySystem(A, B, C, D, E=E)
-        if normal_form_applicable(sys).ok:
+        if normal_form_applicable(sys).holds:
             return sys
 
 
@@ -199,7 +199,7 @@ def test_random_systems_certificate(seed):
     # (B23): d̄_{e_j} = č_j Ǎ^{μ_j−1} B
     for j, mu in enumerate(d.mu if d.model.B.cols else ()):
         r = d.C_check[j : j + 1, 0 : d.n] @ (d.A_check ** (mu - 1)) @ d.model.B
-        assert tuple(_q(r)[0]) == d.d_bar_rows()[j]
+        assert tuple(_q(r)[0]) == d.b_bar_rows()[j]
     # (B31): č_{j̄} t_{e_j − i} = 1 iff j̄ = j and i = μ_j − 1
     CT = _q(d.C_check @ d.T)
     for jb in range(d.p):

@@ -28,10 +28,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import flint
-
+from uio_ring.analysis.report import Report
 from uio_ring.analysis.strong_observability import constant_matrices
-from uio_ring.ring import constant as qc
+from uio_ring.ring.qmatrix import QMatrix
 from uio_ring.systems.delay_system import DelaySystem
 
 __all__ = [
@@ -46,21 +45,27 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class RelativeDegrees:
-    """Relative degree of each output w.r.t. the unknown input (``None``: infinite)."""
+class RelativeDegrees(Report):
+    """Relative degree of each output w.r.t. the unknown input (``None``: infinite).
+
+    ``holds``: every output is reached by the unknown input; ``reason`` names the others.
+    """
 
     degrees: tuple[int | None, ...]
     output_names: tuple[str, ...]
     reason: str = ""
 
     @property
-    def ok(self) -> bool:
+    def holds(self) -> bool:
         """Every output is reached by the unknown input."""
         return all(d is not None for d in self.degrees)
 
-    def __str__(self) -> str:
-        parts = [f"{n}: {'∞' if d is None else d}" for n, d in zip(self.output_names, self.degrees, strict=True)]
-        return "relative degrees w.r.t. w — " + ", ".join(parts)
+    @property
+    def name(self) -> str:
+        return "every output reached by the unknown input (relative degrees w.r.t. w)"
+
+    def _detail_lines(self) -> list[str]:
+        return [", ".join(f"{n}: {'∞' if d is None else d}" for n, d in zip(self.output_names, self.degrees, strict=True))]
 
     def to_dict(self) -> dict[str, Any]:
         return {"degrees": list(self.degrees), "outputs": list(self.output_names), "reason": self.reason}
@@ -80,18 +85,17 @@ def relative_degrees(sys: DelaySystem) -> RelativeDegrees:
     n = sys.n_x
     out: list[int | None] = []
     for j in range(sys.n_y):
-        if any(D[j, i] != 0 for i in range(sys.n_w)):
+        if sys.n_w and not D.row(j).is_zero():
             out.append(0)
             continue
-        row = qc.qzeros(1, n)
-        for i in range(n):
-            row[0, i] = C[j, i]
+        row = C.row(j)
         deg = None
         for k in range(1, n + 1):
-            if sys.n_w and not qc.is_qzero(row * B):
+            # invariant: row = c_jᵀ A^{k−1} and c_jᵀ A^i B = 0 for i < k − 1
+            if sys.n_w and not (row @ B).is_zero():
                 deg = k
                 break
-            row = row * A
+            row = row @ A
         out.append(deg)
     missing = [sys.output_names[j] for j, d in enumerate(out) if d is None]
     reason = f"the unknown input never reaches {', '.join(missing)}" if missing else ""
@@ -99,28 +103,35 @@ def relative_degrees(sys: DelaySystem) -> RelativeDegrees:
 
 
 @dataclass(frozen=True)
-class ObservabilityIndices:
-    """Luenberger observability indices of ``(A, C)`` (one per output)."""
+class ObservabilityIndices(Report):
+    """Luenberger observability indices of ``(A, C)`` (one per output).
+
+    ``holds``: ``(A, C)`` is observable (the indices sum to ``n_x``).
+    """
 
     indices: tuple[int, ...]
     n_x: int
 
     @property
-    def ok(self) -> bool:
+    def holds(self) -> bool:
         """``(A, C)`` observable: the indices sum to ``n_x``."""
         return sum(self.indices) == self.n_x
 
     @property
     def reason(self) -> str:
-        if self.ok:
+        if self.holds:
             return ""
         return f"(A, C) is not observable: the observability indices sum to {sum(self.indices)} < n_x = {self.n_x}"
 
-    def __str__(self) -> str:
-        return f"observability indices {self.indices} (sum {sum(self.indices)}, n_x = {self.n_x})"
+    @property
+    def name(self) -> str:
+        return "(A, C) observable (observability indices)"
+
+    def _detail_lines(self) -> list[str]:
+        return [f"observability indices {self.indices} (sum {sum(self.indices)}, n_x = {self.n_x})"]
 
     def to_dict(self) -> dict[str, Any]:
-        return {"indices": list(self.indices), "n_x": self.n_x, "observable": self.ok}
+        return {"indices": list(self.indices), "n_x": self.n_x, "holds": self.holds}
 
 
 def observability_indices(sys: DelaySystem) -> ObservabilityIndices:
@@ -135,53 +146,40 @@ def observability_indices(sys: DelaySystem) -> ObservabilityIndices:
     M = constant_matrices(sys)
     A, C = M["A"], M["C"]
     n, p = sys.n_x, sys.n_y
-    basis: list[flint.fmpq_mat] = []  # kept rows
+    basis = QMatrix.zeros(0, n)  # kept rows
     idx = [0] * p
     active = list(range(p))
-    rows = [C_row(C, j, n) for j in range(p)]
-    rank = 0
-    while active and rank < n:
+    rows = [C.row(j) for j in range(p)]
+    while active and basis.rows < n:
         still = []
+        # invariant: basis has full row rank; rows[j] = c_jᵀ A^{idx[j]}
         for j in active:
-            cand = qc.qvstack(basis + [rows[j]], n)
-            if qc.qrank(cand) > rank:
-                basis.append(rows[j])
-                rank += 1
+            cand = QMatrix.vstack(basis, rows[j])
+            if cand.rank() > basis.rows:
+                basis = cand
                 idx[j] += 1
-                rows[j] = rows[j] * A
+                rows[j] = rows[j] @ A
                 still.append(j)
         active = still
     return ObservabilityIndices(tuple(idx), n)
 
 
-def C_row(C: flint.fmpq_mat, j: int, n: int) -> flint.fmpq_mat:
-    """Row j of C as a 1×n matrix."""
-    r = qc.qzeros(1, n)
-    for i in range(n):
-        r[0, i] = C[j, i]
-    return r
-
-
-def _markov(M: dict[str, flint.fmpq_mat], K: int) -> list[flint.fmpq_mat]:
+def _markov(M: dict[str, QMatrix], K: int) -> list[QMatrix]:
     """``[D, CB, CAB, …]`` (K terms)."""
     out = [M["D"]]
     X = M["B"]
     for _ in range(K - 1):
-        out.append(M["C"] * X)
-        X = M["A"] * X
+        out.append(M["C"] @ X)
+        X = M["A"] @ X
     return out
 
 
-def _toeplitz(blocks: list[flint.fmpq_mat], k: int, p: int, m: int) -> flint.fmpq_mat:
+def _toeplitz(blocks: list[QMatrix], k: int, p: int, m: int) -> QMatrix:
     """Lower block-Toeplitz ``[[G0], [G1, G0], …]`` with k block rows."""
-    T = qc.qzeros(k * p, k * m)
-    for r in range(k):
-        for c in range(r + 1):
-            G = blocks[r - c]
-            for i in range(p):
-                for j in range(m):
-                    T[r * p + i, c * m + j] = G[i, j]
-    return T
+    zero = QMatrix.zeros(p, m)
+    return QMatrix.vstack(
+        *[QMatrix.hstack(*[blocks[r - c] if c <= r else zero for c in range(k)], rows=p) for r in range(k)], cols=k * m
+    )
 
 
 @dataclass(frozen=True)
@@ -220,7 +218,7 @@ def infinite_zero_structure(sys: DelaySystem) -> InfiniteZeroStructure:
     blocks = _markov(M, K)
     ranks = [0]
     for k in range(1, K + 1):
-        ranks.append(qc.qrank(_toeplitz(blocks, k, p, m)))
+        ranks.append(_toeplitz(blocks, k, p, m).rank())
     rho = [0] + [ranks[k] - ranks[k - 1] for k in range(1, K + 1)]
     orders: list[int] = []
     for i in range(K):
@@ -243,16 +241,16 @@ def normal_form_chain_lengths(sys: DelaySystem) -> tuple[int, ...]:
     M = constant_matrices(sys)
     n, p, m = sys.n_x, sys.n_y, sys.n_w
     A, C = M["A"], M["C"]
-    blocks = [qc.qzeros(p, m)] + _markov(M, n + 1)[1:]
+    blocks = [QMatrix.zeros(p, m)] + _markov(M, n + 1)[1:]
     d = [0]
-    O_rows: list[flint.fmpq_mat] = []
+    O_rows: list[QMatrix] = []
     X = C
     for k in range(1, n + 1):
         O_rows.append(X)
-        X = X * A
+        X = X @ A
         H = _toeplitz(blocks, k, p, m)
-        O = qc.qvstack(O_rows, n)
-        d.append(qc.qrank(qc.qhstack([O, H], k * p)) - qc.qrank(H))
+        O = QMatrix.vstack(*O_rows, cols=n)
+        d.append(QMatrix.hstack(O, H).rank() - H.rank())
         if k > 1 and d[-1] == d[-2]:
             break
     inc = [d[k] - d[k - 1] for k in range(1, len(d))]

@@ -11,7 +11,7 @@ method accepts (the aircraft example of Niederwieser et al. (2022) has ``C B = 0
 
 >>> from uio_ring import DelaySystem
 >>> rep = normal_form_applicable(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None))
->>> rep.ok, rep.matching_condition
+>>> rep.holds, rep.matching_condition
 (True, False)
 >>> print(normal_form_applicable(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[0, 1]]", None)).reason)
 not strongly observable: invariant zero(s): roots of s ≈ {0}
@@ -19,29 +19,29 @@ not strongly observable: invariant zero(s): roots of s ≈ {0}
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass
 from typing import Any
 
+from uio_ring.analysis.report import Report
 from uio_ring.analysis.strong_observability import (
     StrongObservabilityReport,
     constant_matrices,
     is_strongly_observable,
 )
-from uio_ring.ring import constant as qc
+from uio_ring.ring.qmatrix import QMatrix
 from uio_ring.systems.delay_system import DelaySystem
 
 __all__ = ["NormalFormApplicability", "normal_form_applicable"]
 
 
 @dataclass(frozen=True)
-class NormalFormApplicability:
+class NormalFormApplicability(Report):
     """Verdict: does the observer normal form (Niederwieser et al. 2022) apply to this system?
 
     Attributes
     ----------
     holds
-        All conditions hold (``ok`` is an alias).
+        All conditions hold.
     reason
         The first failed condition, in words (empty when it holds).
     delay_free, independent_inputs
@@ -61,10 +61,6 @@ class NormalFormApplicability:
     matching_condition: bool | None
 
     @property
-    def ok(self) -> bool:
-        return self.holds
-
-    @property
     def name(self) -> str:
         return "observer normal form (Niederwieser et al. 2022) applicability"
 
@@ -76,20 +72,14 @@ class NormalFormApplicability:
         extra = "" if self.matching_condition else "; the matching condition fails, which this method does not need"
         return f"normal-form: applies — strongly observable (no invariant zeros, left invertible){extra}"
 
-    def __str__(self) -> str:
-        lines = [f"{self.name}: {'holds' if self.holds else 'FAILS'}"]
-        if self.strong_observability is not None:
-            lines.append("  " + str(self.strong_observability).replace("\n", "\n  "))
+    def _detail_lines(self) -> list[str]:
+        lines = [] if self.strong_observability is None else [str(self.strong_observability)]
         if self.matching_condition is not None:
-            lines.append(f"  matching condition: {'holds' if self.matching_condition else 'fails (not needed)'}")
-        if not self.holds:
-            lines.append(f"  reason: {self.reason}")
-        return "\n".join(lines)
+            lines.append(f"matching condition: {'holds' if self.matching_condition else 'fails (not needed)'}")
+        return lines
 
-    def _repr_html_(self) -> str:
-        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
-        so = "" if self.strong_observability is None else "<br>" + self.strong_observability._repr_html_()
-        return f"<b>{html.escape(self.name)}</b>: {'holds' if self.holds else 'FAILS'}{reason}{so}"
+    def _detail_html(self) -> str:
+        return "" if self.strong_observability is None else self.strong_observability._repr_html_()
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -114,7 +104,7 @@ def normal_form_applicable(sys: DelaySystem) -> NormalFormApplicability:
     Returns
     -------
     NormalFormApplicability
-        ``ok``, ``reason``, ``summary`` (a line for ``auto``) and the
+        ``holds``, ``reason``, ``summary`` (a line for ``auto``) and the
         strong-observability report.
 
     Examples
@@ -132,9 +122,9 @@ def normal_form_applicable(sys: DelaySystem) -> NormalFormApplicability:
     M = constant_matrices(sys)
     B, C, D = M["B"], M["C"], M["D"]
     m = sys.n_w
-    rBD = qc.qrank(qc.qvstack([B, D], m))
-    rD = qc.qrank(D)
-    rM = qc.qrank(qc.qvstack([qc.qhstack([C * B, D], sys.n_y), qc.qhstack([D, qc.qzeros(sys.n_y, m)], sys.n_y)], 2 * m))
+    rBD = QMatrix.vstack(B, D).rank()
+    rD = D.rank()
+    rM = QMatrix.block([[C @ B, D], [D, QMatrix.zeros(sys.n_y, m)]]).rank()
     matching = rM == rD + rBD
     so = is_strongly_observable(sys, cross_check=False)
     indep = rBD == m

@@ -1,9 +1,11 @@
 """Report objects of the structural analysis (Assumptions 1 and 2 of Zheng et al. (2015)).
 
 A ``check_*`` function never raises because an assumption fails: it returns
-one of these frozen reports, whose ``holds`` says the verdict and ``reason``
-says why not.  Reports print readably (``str``), render in notebooks
-(``_repr_html_``, ``_repr_latex_``) and convert to plain data (``to_dict``).
+a frozen report, whose ``holds`` says the verdict and ``reason`` says why not.
+Every verdict report of the analysis layer derives from :class:`Report`, which
+writes the display once: ``str`` (a headline, the report's detail lines, the
+reason when it fails) and ``_repr_html_`` for notebooks.  Reports also convert
+to plain data (``to_dict``).
 
 >>> from uio_ring import PolyMatrix, Poly
 >>> r = RankConditionReport(M=PolyMatrix("[[1]]"), M_with_B=PolyMatrix("[[1], [0]]"),
@@ -18,11 +20,11 @@ from __future__ import annotations
 import html
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from uio_ring.ring.matrix import Poly, PolyMatrix
 
-__all__ = ["ObservabilityReport", "RankConditionReport", "AssumptionsReport"]
+__all__ = ["Report", "ObservabilityReport", "RankConditionReport", "AssumptionsReport"]
 
 
 def _factors_str(fs: Sequence[Poly]) -> str:
@@ -41,8 +43,65 @@ def _verdict(holds: bool) -> str:
     return "holds" if holds else "FAILS"
 
 
+class Report:
+    """Base of the verdict reports: ``holds``, ``reason`` and the display, written once.
+
+    A subclass (a frozen dataclass) provides ``holds`` (the verdict), ``reason``
+    (why it fails; empty when it holds) and ``name`` (what was checked), as
+    fields or properties, and may list details: :meth:`_detail_lines` (plain
+    text, one item per line; items may span lines) and :meth:`_detail_html`
+    (defaults to the escaped lines).
+
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True)
+    ... class Demo(Report):
+    ...     holds: bool
+    ...     reason: str = ""
+    ...     name = "demo property"
+    ...     def _detail_lines(self) -> list[str]:
+    ...         return ["x = 1"]
+    >>> print(Demo(False, "x is odd"))
+    demo property: FAILS
+      x = 1
+      reason: x is odd
+    >>> Demo(True)._repr_html_()
+    '<b>demo property</b>: holds<br>x = 1'
+    """
+
+    if TYPE_CHECKING:
+
+        @property
+        def holds(self) -> bool: ...
+
+        @property
+        def reason(self) -> str: ...
+
+        @property
+        def name(self) -> str: ...
+
+    def _detail_lines(self) -> list[str]:
+        """Lines shown under the headline (plain text)."""
+        return []
+
+    def _detail_html(self) -> str:
+        """HTML shown under the headline (default: the detail lines, escaped)."""
+        return "<br>".join(html.escape(line).replace("\n", "<br>") for line in self._detail_lines())
+
+    def __str__(self) -> str:
+        lines = [f"{self.name}: {_verdict(self.holds)}"]
+        lines += ["  " + line.replace("\n", "\n  ") for line in self._detail_lines()]
+        if not self.holds:
+            lines.append(f"  reason: {self.reason}")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
+        details = self._detail_html()
+        return f"<b>{html.escape(self.name)}</b>: {_verdict(self.holds)}{reason}" + (f"<br>{details}" if details else "")
+
+
 @dataclass(frozen=True)
-class ObservabilityReport:
+class ObservabilityReport(Report):
     """Algorithm (4)–(5) of Zheng et al. (2015) and the verdict on Assumption 1.
 
     Attributes
@@ -82,9 +141,8 @@ class ObservabilityReport:
     def name(self) -> str:
         return "Assumption 1 (unknown-input observability, algorithm (4)–(5))"
 
-    def __str__(self) -> str:
-        lines = [f"{self.name}: {_verdict(self.holds)}"]
-        lines.append(f"  k* = {self.k_star}, rank M_k* = {self.rank}, n_x = {self.n_x}")
+    def _detail_lines(self) -> list[str]:
+        lines = [f"k* = {self.k_star}, rank M_k* = {self.rank}, n_x = {self.n_x}"]
         for k, fs in enumerate(self.invariant_factors):
             if not fs:
                 M = "[] (0×0)"
@@ -93,23 +151,19 @@ class ObservabilityReport:
             else:
                 M = "diag" + _factors_str(fs)
             lines.append(
-                f"  k = {k}: Δ_{k} has {self.Delta[k].rows} row(s); M_{k} = {M} "
+                f"k = {k}: Δ_{k} has {self.Delta[k].rows} row(s); M_{k} = {M} "
                 f"(invariant factors of N_{k}: {_factors_str(fs)})"
             )
-        if not self.holds:
-            lines.append(f"  reason: {self.reason}")
-        return "\n".join(lines)
+        return lines
 
-    def _repr_html_(self) -> str:
+    def _detail_html(self) -> str:
         rows = "".join(
             f"<tr><td>{k}</td><td>\\({self.Delta[k].to_latex()}\\)</td>"
             f"<td>\\({self.M[k].to_latex()}\\)</td></tr>"
             for k in range(len(self.M))
         )
-        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
         return (
-            f"<b>{html.escape(self.name)}</b>: {_verdict(self.holds)} "
-            f"(k* = {self.k_star}, rank M<sub>k*</sub> = {self.rank}, n<sub>x</sub> = {self.n_x}){reason}"
+            f"k* = {self.k_star}, rank M<sub>k*</sub> = {self.rank}, n<sub>x</sub> = {self.n_x}"
             f"<table><tr><th>k</th><th>Δ<sub>k</sub></th><th>M<sub>k</sub></th></tr>{rows}</table>"
         )
 
@@ -132,7 +186,7 @@ class ObservabilityReport:
 
 
 @dataclass(frozen=True)
-class RankConditionReport:
+class RankConditionReport(Report):
     """Assumption 2 of Zheng et al. (2015): ``Inv_S [[CB, D], [D, 0], [B, 0]] = Inv_S [[CB, D], [D, 0]]``.
 
     For a delay-free system this is the observer-matching / rank condition of
@@ -170,30 +224,24 @@ class RankConditionReport:
         """Zheng et al. (2015), (3): ``rank M = rank [B; D] + rank D`` (ranks over Q(δ))."""
         return self.rank_M == self.rank_BD + self.rank_D
 
-    def __str__(self) -> str:
-        lines = [f"{self.name}: {_verdict(self.holds)}"]
-        lines.append(f"  Inv_S [[CB, D], [D, 0], [B, 0]] = {_factors_str(self.factors_with_B)}")
-        lines.append(f"  Inv_S [[CB, D], [D, 0]]         = {_factors_str(self.factors_without_B)}")
-        lines.append(
-            f"  rank M = {self.rank_M}, rank [B; D] + rank D = {self.rank_BD} + {self.rank_D}"
+    def _detail_lines(self) -> list[str]:
+        return [
+            f"Inv_S [[CB, D], [D, 0], [B, 0]] = {_factors_str(self.factors_with_B)}",
+            f"Inv_S [[CB, D], [D, 0]]         = {_factors_str(self.factors_without_B)}",
+            f"rank M = {self.rank_M}, rank [B; D] + rank D = {self.rank_BD} + {self.rank_D}",
+        ]
+
+    def _detail_html(self) -> str:
+        return (
+            f"\\(\\operatorname{{Inv}}_S {self.M_with_B.to_latex()} = {_factors_latex(self.factors_with_B)}\\), "
+            f"\\(\\operatorname{{Inv}}_S {self.M.to_latex()} = {_factors_latex(self.factors_without_B)}\\)"
         )
-        if not self.holds:
-            lines.append(f"  reason: {self.reason}")
-        return "\n".join(lines)
 
     def _repr_latex_(self) -> str:
         return (
             rf"$$\text{{Assumption 2 {_verdict(self.holds)}}}:\;"
             rf"\operatorname{{Inv}}_S {self.M_with_B.to_latex()} = {_factors_latex(self.factors_with_B)},\;"
             rf"\operatorname{{Inv}}_S {self.M.to_latex()} = {_factors_latex(self.factors_without_B)}$$"
-        )
-
-    def _repr_html_(self) -> str:
-        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
-        return (
-            f"<b>{html.escape(self.name)}</b>: {_verdict(self.holds)}{reason}<br>"
-            f"\\(\\operatorname{{Inv}}_S {self.M_with_B.to_latex()} = {_factors_latex(self.factors_with_B)}\\), "
-            f"\\(\\operatorname{{Inv}}_S {self.M.to_latex()} = {_factors_latex(self.factors_without_B)}\\)"
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -210,7 +258,7 @@ class RankConditionReport:
 
 
 @dataclass(frozen=True)
-class AssumptionsReport:
+class AssumptionsReport(Report):
     """Both assumptions of Zheng et al. (2015) for one system; ``holds`` iff both hold."""
 
     observability: ObservabilityReport
@@ -239,10 +287,14 @@ class AssumptionsReport:
             parts.append(f"Assumption 2 fails: {self.rank_condition.reason}")
         return "; ".join(parts)
 
-    def __str__(self) -> str:
-        return str(self.observability) + "\n" + str(self.rank_condition)
+    @property
+    def name(self) -> str:
+        return "Assumptions 1 and 2 (Zheng et al. 2015)"
 
-    def _repr_html_(self) -> str:
+    def _detail_lines(self) -> list[str]:
+        return [str(self.observability), str(self.rank_condition)]
+
+    def _detail_html(self) -> str:
         return self.observability._repr_html_() + "<br>" + self.rank_condition._repr_html_()
 
     def to_dict(self) -> dict[str, Any]:

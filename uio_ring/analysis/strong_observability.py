@@ -26,7 +26,7 @@ Known inputs play no part.
 >>> from uio_ring import DelaySystem
 >>> sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None)
 >>> rep = is_strongly_observable(sys)
->>> rep.ok, rep.invariant_zeros.polynomial
+>>> rep.holds, rep.invariant_zeros.polynomial
 (True, 1)
 >>> is_strongly_observable(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[0, 1]]", None)).reason
 'invariant zero(s): roots of s ≈ {0}'
@@ -36,18 +36,15 @@ the system is not left invertible: normrank P(s) = 3 < n_x + rank [B; D] = 4 (so
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-import flint
-
 from uio_ring.analysis.rank_condition import check_rank_condition
-from uio_ring.analysis.report import RankConditionReport
-from uio_ring.ring import constant as qc
+from uio_ring.analysis.report import RankConditionReport, Report
 from uio_ring.ring.errors import DomainError
 from uio_ring.ring.matrix import Poly, PolyMatrix
+from uio_ring.ring.qmatrix import QMatrix
 from uio_ring.ring.smith import invariant_factors
 from uio_ring.systems.delay_system import DelaySystem
 
@@ -65,8 +62,8 @@ __all__ = [
 ]
 
 
-def constant_matrices(sys: DelaySystem) -> dict[str, flint.fmpq_mat]:
-    """``A, B, C, D, E, F`` of a delay-free system as exact ``fmpq_mat``.
+def constant_matrices(sys: DelaySystem) -> dict[str, QMatrix]:
+    """``A, B, C, D, E, F`` of a delay-free system as exact :class:`~uio_ring.ring.QMatrix`.
 
     Raises
     ------
@@ -80,7 +77,7 @@ def constant_matrices(sys: DelaySystem) -> dict[str, flint.fmpq_mat]:
                 f"{name} has δ-degree {M.degree()}: this analysis is for delay-free systems "
                 "(use sys.at_delta(0) for the delay-free part, or the delay analysis of Zheng et al. (2015))"
             )
-        out[name] = qc.qmat(M, name)
+        out[name] = QMatrix.from_polymatrix(M, name=name)
     return out
 
 
@@ -93,7 +90,7 @@ def rosenbrock_matrix(sys: DelaySystem, var: str = "s") -> PolyMatrix:
     """
     M = constant_matrices(sys)
     n, m, p = sys.n_x, sys.n_w, sys.n_y
-    A, B, C, D = (qc.to_fractions(M[k]) for k in "ABCD")
+    A, B, C, D = (M[k].tolist() for k in "ABCD")
     s = Poly.gen(var)
     rows: list[list[Any]] = []
     for i in range(n):
@@ -193,37 +190,29 @@ def invariant_zeros(sys: DelaySystem) -> InvariantZeros:
     return InvariantZeros(P, fs, non_unit, prod, len(fs), roots)
 
 
-def weakly_unobservable_subspace(sys: DelaySystem) -> flint.fmpq_mat:
+def weakly_unobservable_subspace(sys: DelaySystem) -> QMatrix:
     """A basis (columns) of ``V*``: the initial states that some ``w`` keeps invisible (``y ≡ 0``).
 
     Recursion ``V_0 = Qⁿ``, ``V_{k+1} = {x : ∃ w, A x + B w ∈ V_k, C x + D w = 0}``
-    (Trentelman, Stoorvogel & Hautus 2001, Thm. 7.11), exact over Q.
+    (Trentelman, Stoorvogel & Hautus 2001, Thm. 7.11), exact over Q.  The basis is
+    the transposed reduced row echelon form (unique for the subspace).
 
     >>> from uio_ring import DelaySystem
-    >>> weakly_unobservable_subspace(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[0, 1]]", None)).ncols()
-    1
+    >>> weakly_unobservable_subspace(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[0, 1]]", None))
+    QMatrix([[1], [0]])
     """
     M = constant_matrices(sys)
     A, B, C, D = M["A"], M["B"], M["C"], M["D"]
-    n, m, p = sys.n_x, sys.n_w, sys.n_y
-    V = qc.qidentity(n)
+    n, p = sys.n_x, sys.n_y
+    V = QMatrix.identity(n)
     while True:
-        r = V.ncols()
+        # invariant: V_k ⊇ V* and V_{k+1} ⊆ V_k; the dimension drops until it is constant
+        r = V.cols
         # [[A, B, -V], [C, D, 0]] [x; w; ξ] = 0
-        top = qc.qhstack([A, B, -V], n)
-        bot = qc.qhstack([C, D, qc.qzeros(p, r)], p)
-        K = qc.nullspace(qc.qvstack([top, bot], n + m + r))
-        X = qc.qzeros(n, K.ncols())
-        for i in range(n):
-            for j in range(K.ncols()):
-                X[i, j] = K[i, j]
-        piv = qc.rref(X.transpose())[1]
-        Vn = qc.qzeros(n, len(piv))
-        R, _ = qc.rref(X.transpose())
-        for c in range(len(piv)):
-            for i in range(n):
-                Vn[i, c] = R[c, i]
-        if Vn.ncols() == r:
+        K = QMatrix.block([[A, B, -V], [C, D, QMatrix.zeros(p, r)]]).nullspace()
+        echelon = K[0:n, :].T.rref()
+        Vn = echelon.R[0 : echelon.rank, :].T
+        if Vn.cols == r:
             return Vn
         V = Vn
 
@@ -257,7 +246,7 @@ def is_hurwitz_polynomial(p: Poly) -> bool:
 
 
 @dataclass(frozen=True)
-class StrongObservabilityReport:
+class StrongObservabilityReport(Report):
     """Verdict on strong observability, strong detectability or strong* detectability.
 
     Attributes
@@ -265,7 +254,7 @@ class StrongObservabilityReport:
     kind
         ``"strongly observable"``, ``"strongly detectable"`` or ``"strong* detectable"``.
     holds
-        The verdict (``ok`` is an alias).
+        The verdict.
     reason
         Why it fails (empty when it holds).
     n_x, rank_BD
@@ -292,10 +281,6 @@ class StrongObservabilityReport:
     rank_condition: RankConditionReport | None = None
 
     @property
-    def ok(self) -> bool:
-        return self.holds
-
-    @property
     def invariant_zeros(self) -> InvariantZeros:
         return self.zeros
 
@@ -303,27 +288,15 @@ class StrongObservabilityReport:
     def name(self) -> str:
         return f"{self.kind} (Hautus 1983; Tranninger et al. 2021, Prop. 1)"
 
-    def __str__(self) -> str:
-        lines = [f"{self.name}: {'holds' if self.holds else 'FAILS'}"]
-        lines.append(
-            f"  normrank P(s) = {self.zeros.normal_rank}, n_x + rank [B; D] = {self.n_x + self.rank_BD}, "
-            f"dim V* = {'not computed' if self.dim_V_star is None else self.dim_V_star}"
-        )
-        lines.append("  " + str(self.zeros))
+    def _detail_lines(self) -> list[str]:
+        lines = [
+            f"normrank P(s) = {self.zeros.normal_rank}, n_x + rank [B; D] = {self.n_x + self.rank_BD}, "
+            f"dim V* = {'not computed' if self.dim_V_star is None else self.dim_V_star}",
+            str(self.zeros),
+        ]
         if self.rank_condition is not None:
-            lines.append("  rank condition: " + ("holds" if self.rank_condition.holds else "fails"))
-        if not self.holds:
-            lines.append(f"  reason: {self.reason}")
-        return "\n".join(lines)
-
-    def _repr_html_(self) -> str:
-        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
-        return (
-            f"<b>{html.escape(self.name)}</b>: {'holds' if self.holds else 'FAILS'} "
-            f"(normrank P(s) = {self.zeros.normal_rank}, n<sub>x</sub> + rank [B; D] = "
-            f"{self.n_x + self.rank_BD}, dim V* = {'not computed' if self.dim_V_star is None else self.dim_V_star})<br>"
-            f"{html.escape(str(self.zeros))}{reason}"
-        )
+            lines.append("rank condition: " + ("holds" if self.rank_condition.holds else "fails"))
+        return lines
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -341,10 +314,10 @@ class StrongObservabilityReport:
 
 def _common(sys: DelaySystem, cross_check: bool = True) -> tuple[InvariantZeros, int, bool, int | None, str]:
     M = constant_matrices(sys)
-    rank_BD = qc.qrank(qc.qvstack([M["B"], M["D"]], sys.n_w))
+    rank_BD = QMatrix.vstack(M["B"], M["D"]).rank()
     z = invariant_zeros(sys)
     left_inv = z.normal_rank == sys.n_x + rank_BD
-    dimV = weakly_unobservable_subspace(sys).ncols() if cross_check else None
+    dimV = weakly_unobservable_subspace(sys).cols if cross_check else None
     why_not_left = (
         f"the system is not left invertible: normrank P(s) = {z.normal_rank} < n_x + rank [B; D] = "
         f"{sys.n_x + rank_BD} (some state directions are masked by the unknown input for every s)"
@@ -382,7 +355,7 @@ def is_strongly_observable(sys: DelaySystem, *, cross_check: bool = True) -> Str
     --------
     >>> from uio_ring import DelaySystem
     >>> rep = is_strongly_observable(DelaySystem("[[-2]]", "[[1]]", "[[1]]", "[[1]]"))
-    >>> rep.ok, rep.reason
+    >>> rep.holds, rep.reason
     (False, 'invariant zero(s): roots of s + 3 ≈ {-3}')
     """
     z, rank_BD, left_inv, dimV, why = _common(sys, cross_check)
@@ -413,7 +386,7 @@ def is_strongly_detectable(sys: DelaySystem) -> StrongObservabilityReport:
     --------
     >>> from uio_ring import DelaySystem
     >>> sys = DelaySystem("[[-2]]", "[[1]]", "[[1]]", "[[1]]")   # zero at −3
-    >>> is_strongly_detectable(sys).ok, is_strongly_observable(sys).ok
+    >>> is_strongly_detectable(sys).holds, is_strongly_observable(sys).holds
     (True, False)
     """
     z, rank_BD, left_inv, dimV, why = _common(sys)
@@ -442,7 +415,7 @@ def is_strong_star_detectable(sys: DelaySystem) -> StrongObservabilityReport:
     --------
     >>> from uio_ring import DelaySystem
     >>> rep = is_strong_star_detectable(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None))
-    >>> rep.ok, rep.reason.split(":")[0]
+    >>> rep.holds, rep.reason.split(":")[0]
     (False, 'the rank (observer-matching) condition fails')
     """
     det = is_strongly_detectable(sys)

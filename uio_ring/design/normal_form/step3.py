@@ -1,0 +1,89 @@
+"""Step 3 of paper 000 (Section 4.1, (48)–(53)): the coupling coefficients β.
+
+For each chain ``j`` with later, shorter chains ``r`` (``μ_r < μ_j``) the unknowns
+``β_{j,r,l}``, ``l = μ_r … μ_j − 1`` (ascending ``l``), solve ``H^{(j)} β^{(j)} = w^{(j)}`` with
+(explicit form of (49)–(50); ``a = 1 … μ_j − μ_r``, ``b = 1 … μ_j − μ_s``)::
+
+    H^{(j)}_{r,s}(a, b) = č_r Ǎ^{μ_s + b − a − 1} t_{e_s}   (0 when the power is negative)
+    w^{(j)}_r(a)       = č_r Ǎ^{μ_j − a} t_{e_j}
+
+``det H^{(j)} = 1`` (Lemma 4.1(c)), so β is unique; the other couplings vanish (53).
+``H^{(j)}`` is triangular up to row and column permutations, so it is solved by
+substitution (:meth:`~uio_ring.ring.QMatrix.solve_by_peeling`), with elimination as
+a fallback.
+
+>>> from uio_ring.ring import QMatrix
+>>> from uio_ring.design.normal_form.step2 import chain_basis
+>>> b = chain_basis(QMatrix([[0, 1, 0], [0, 0, 1], [1, 2, 3]]), QMatrix([[1, 0, 0], [0, 0, 1]]), (2, 1))
+>>> c = coupling_coefficients(b)
+>>> c.beta, [s.H.det() for s in c.systems]
+({(1, 2, 1): Fraction(3, 1)}, [Fraction(1, 1)])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+from uio_ring.design.normal_form.step2 import ChainBasis
+from uio_ring.ring.qmatrix import QMatrix
+
+__all__ = ["CouplingSystem", "Couplings", "coupling_coefficients"]
+
+
+@dataclass(frozen=True)
+class CouplingSystem:
+    """``H^{(j)} β^{(j)} = w^{(j)}`` for chain ``j`` (1-based) and the later chains ``r`` (1-based)."""
+
+    j: int
+    later: tuple[int, ...]
+    H: QMatrix
+    w: QMatrix
+    beta: QMatrix
+
+
+@dataclass(frozen=True)
+class Couplings:
+    """The result of Step 3: ``beta[(j, r, l)] = β_{j,r,l}`` (1-based, sorted chains; only
+    ``l ≥ μ_r``, the others vanish by (53)) and the systems that gave them."""
+
+    beta: dict[tuple[int, int, int], Fraction]
+    systems: tuple[CouplingSystem, ...]
+
+
+def coupling_coefficients(basis: ChainBasis) -> Couplings:
+    """Step 3: every ``β_{j,r,l}`` from the ``H^{(j)}`` systems (48)–(51)."""
+    mu = basis.mu
+    beta: dict[tuple[int, int, int], Fraction] = {}
+    systems = []
+    for j in range(len(mu) - 1):
+        later = [r for r in range(j + 1, len(mu)) if mu[r] < mu[j]]
+        if not later:
+            continue
+        H, w = _system(basis, j, later)
+        sol = H.solve_by_peeling(w)  # det H^(j) = 1 and triangular up to permutations
+        if sol is None:  # pragma: no cover - general elimination as a fallback
+            sol = H.solve(w, name=f"H^({j + 1})")
+        values = iter(sol.T.tolist()[0] if sol.rows else [])
+        for r in later:
+            for l in range(mu[r], mu[j]):  # ascending l (52)
+                beta[(j + 1, r + 1, l)] = next(values)
+        systems.append(CouplingSystem(j + 1, tuple(r + 1 for r in later), H, w, sol))
+    return Couplings(beta, tuple(systems))
+
+
+def _system(basis: ChainBasis, j: int, later: list[int]) -> tuple[QMatrix, QMatrix]:
+    """``H^{(j)}`` and ``w^{(j)}`` (0-based j, later chains). Precondition: ``later`` nonempty."""
+    mu, ct = basis.mu, basis.coupling
+    zero = Fraction(0)
+    H_rows, w_rows = [], []
+    for r in later:
+        for a in range(1, mu[j] - mu[r] + 1):
+            w_rows.append([ct(r, mu[j] - a, j)])
+            row = []
+            for s in later:
+                for b in range(1, mu[j] - mu[s] + 1):
+                    e = mu[s] + b - a - 1
+                    row.append(ct(r, e, s) if e >= 0 else zero)
+            H_rows.append(row)
+    return QMatrix(H_rows), QMatrix(w_rows)
