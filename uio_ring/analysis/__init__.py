@@ -16,7 +16,12 @@ from uio_ring.analysis.normal_form_applicability import (
 )
 from uio_ring.analysis.observability import unknown_input_observability
 from uio_ring.analysis.rank_condition import check_rank_condition, matching_matrix
-from uio_ring.analysis.report import AssumptionsReport, ObservabilityReport, RankConditionReport
+from uio_ring.analysis.report import (
+    AssumptionsReport,
+    ObservabilityReport,
+    RankConditionReport,
+    Report,
+)
 from uio_ring.analysis.strong_observability import (
     InvariantZeros,
     StrongObservabilityReport,
@@ -32,6 +37,7 @@ __all__ = [
     "AssumptionsReport",
     "ObservabilityReport",
     "RankConditionReport",
+    "Report",
     "check_assumptions",
     "check_rank_condition",
     "matching_matrix",
