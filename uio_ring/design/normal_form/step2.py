@@ -41,15 +41,14 @@ class ChainBasis:
     powers
         ``powers[s]`` = ``[e_{e_s}, Ã e_{e_s}, …, Ã^{μ_1−1} e_{e_s}]`` (n×μ_1): the
         z-coordinates of ``Ǎ^i t_{e_s}``.
-    couplings
-        ``couplings[s][r][k] = č_r Ǎ^k t_{e_s}`` (the entries of ``H^{(j)}`` and ``w^{(j)}``).
+        Row ``b_r`` of ``powers[s]`` holds ``č_r Ǎ^k t_{e_s}``, the entries of ``H^{(j)}``
+        and ``w^{(j)}`` (Step 3).
     """
 
     O_R: QMatrix
     mu: tuple[int, ...]
     A_z: QMatrix
     powers: tuple[QMatrix, ...]
-    couplings: tuple[tuple[tuple[Fraction, ...], ...], ...]
 
     @property
     def starts(self) -> tuple[int, ...]:
@@ -63,7 +62,7 @@ class ChainBasis:
 
     def coupling(self, r: int, k: int, s: int) -> Fraction:
         """``č_r Ǎ^k t_{e_s}`` (0-based chains, ``0 ≤ k < μ_1``)."""
-        return self.couplings[s][r][k]
+        return self.powers[s][self.starts[r], k]
 
 
 def chain_basis(A_check: QMatrix, C_check: QMatrix, mu: tuple[int, ...]) -> ChainBasis:
@@ -94,6 +93,4 @@ def chain_basis(A_check: QMatrix, C_check: QMatrix, mu: tuple[int, ...]) -> Chai
             v = A_z @ v
             cols.append(v)
         powers.append(QMatrix.hstack(*cols))
-    starts = [e - m + 1 for e, m in zip(ends, mu, strict=True)]
-    couplings = tuple(tuple(tuple(row) for row in P.take_rows(starts).tolist()) for P in powers)
-    return ChainBasis(O_R=O_R, mu=tuple(mu), A_z=A_z, powers=tuple(powers), couplings=couplings)
+    return ChainBasis(O_R=O_R, mu=tuple(mu), A_z=A_z, powers=tuple(powers))

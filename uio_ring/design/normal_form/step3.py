@@ -17,7 +17,7 @@ a fallback.
 >>> b = chain_basis(QMatrix([[0, 1, 0], [0, 0, 1], [1, 2, 3]]), QMatrix([[1, 0, 0], [0, 0, 1]]), (2, 1))
 >>> c = coupling_coefficients(b)
 >>> c.beta, [s.H.det() for s in c.systems]
-({(1, 2, 1): Fraction(3, 1)}, [Fraction(1, 1)])
+({(1, 2, 1): Fraction(2, 1)}, [Fraction(1, 1)])
 """
 
 from __future__ import annotations
@@ -73,17 +73,25 @@ def coupling_coefficients(basis: ChainBasis) -> Couplings:
 
 
 def _system(basis: ChainBasis, j: int, later: list[int]) -> tuple[QMatrix, QMatrix]:
-    """``H^{(j)}`` and ``w^{(j)}`` (0-based j, later chains). Precondition: ``later`` nonempty."""
-    mu, ct = basis.mu, basis.coupling
-    zero = Fraction(0)
-    H_rows, w_rows = [], []
+    """``H^{(j)}`` and ``w^{(j)}`` (0-based j, later chains), cut from the rows ``b_r`` of the
+    powers of Step 2 (no entry leaves the ring).  Precondition: ``later`` nonempty.
+
+    Row ``a`` of block ``(r, s)`` holds ``č_r Ǎ^k t_{e_s}`` for ``k = μ_s − a … μ_j − a − 1``
+    (zeros for ``k < 0``); ``w^{(j)}_r`` holds ``k = μ_j − 1`` down to ``μ_r``.
+    """
+    mu, P, starts = basis.mu, basis.powers, basis.starts
+    H_rows, w_blocks = [], []
     for r in later:
         for a in range(1, mu[j] - mu[r] + 1):
-            w_rows.append([ct(r, mu[j] - a, j)])
-            row = []
-            for s in later:
-                for b in range(1, mu[j] - mu[s] + 1):
-                    e = mu[s] + b - a - 1
-                    row.append(ct(r, e, s) if e >= 0 else zero)
-            H_rows.append(row)
-    return QMatrix(H_rows), QMatrix(w_rows)
+            H_rows.append(
+                QMatrix.hstack(
+                    *[
+                        QMatrix.hstack(
+                            QMatrix.zeros(1, max(0, a - mu[s])), P[s][starts[r] : starts[r] + 1, max(0, mu[s] - a) : mu[j] - a]
+                        )
+                        for s in later
+                    ]
+                )
+            )
+        w_blocks.append(P[j][starts[r] : starts[r] + 1, :].take_cols(range(mu[j] - 1, mu[r] - 1, -1)))
+    return QMatrix.vstack(*H_rows), QMatrix.hstack(*w_blocks).T
