@@ -74,7 +74,7 @@ def coupling_coefficients(basis: ChainBasis) -> Couplings:
 
 def _system(basis: ChainBasis, j: int, later: list[int]) -> tuple[QMatrix, QMatrix]:
     """``H^{(j)}`` and ``w^{(j)}`` (0-based j, later chains), cut from the rows ``b_r`` of the
-    powers of Step 2 (no entry leaves the ring).  Precondition: ``later`` nonempty.
+    powers of Step 2 by slicing (no entry goes through a Fraction).  Precondition: ``later`` nonempty.
 
     Row ``a`` of block ``(r, s)`` holds ``č_r Ǎ^k t_{e_s}`` for ``k = μ_s − a … μ_j − a − 1``
     (zeros for ``k < 0``); ``w^{(j)}_r`` holds ``k = μ_j − 1`` down to ``μ_r``.
