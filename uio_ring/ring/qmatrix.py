@@ -1,6 +1,6 @@
 """``QMatrix``: immutable matrices over Q, the façade of the ring's exact constant algebra.
 
-The delay-free methods (paper 000 and friends) and the delay-free analysis
+The delay-free methods (Niederwieser et al. 2022 and related papers) and the delay-free analysis
 work with constant matrices only.  ``QMatrix`` is what the layers above the
 ring see of them: entries are exact rationals (read as :class:`~fractions.Fraction`),
 operations return new matrices, nothing is mutated in place.  The algorithms

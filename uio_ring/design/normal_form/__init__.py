@@ -1,4 +1,4 @@
-"""The observer normal form of Niederwieser, Tranninger, Seeber & Reichhartinger (paper 000).
+"""The observer normal form of Niederwieser, Tranninger, Seeber & Reichhartinger (2022).
 
 For a strongly observable delay-free system (package notation; the paper's
 ``D`` is our ``B``, its ``B`` our ``E``, its ``F`` our ``D``)::
@@ -31,8 +31,9 @@ reduction and the augmentation), :mod:`.step1` (Γ, Ξ, chain lengths),
 the normal form), :mod:`.gains` (RED gains, (18)), :mod:`.design` (the design
 object, with the table paper ↔ package), :mod:`.algorithm` (``design_normal_form``).
 
-Everything is exact (rationals, :class:`~uio_ring.ring.QMatrix`); float64 rank
-decisions give structurally wrong normal forms on ill-conditioned systems.
+Everything is exact (rationals, :class:`~uio_ring.ring.QMatrix`): float64 rank
+decisions gave structurally wrong normal forms on ill-conditioned systems in our
+tests (docs/errata.md, N5).
 
 >>> from uio_ring import DelaySystem
 >>> sys = DelaySystem("[[0, 1], [-2, -3]]", "[[0], [1]]", "[[1, 0]]", None)

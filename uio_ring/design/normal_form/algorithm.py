@@ -1,4 +1,4 @@
-"""``design_normal_form``: the observer normal form and RED observer of paper 000, step by step.
+"""``design_normal_form``: the observer normal form and RED observer of Niederwieser et al. (2022), step by step.
 
 The function reads like Section 4.1 of Niederwieser, Tranninger, Seeber &
 Reichhartinger (2022)::
@@ -48,7 +48,7 @@ def design_normal_form(
     lambdas: Sequence[Any] | None = None,
     report: NormalFormApplicability | None = None,
 ) -> NormalFormDesign:
-    """Observer normal form and RED observer of paper 000 for a delay-free system.
+    """Observer normal form and RED observer of Niederwieser et al. (2022) for a delay-free system.
 
     Parameters
     ----------
@@ -94,9 +94,10 @@ def design_normal_form(
 
     Algorithm
     ---------
-    Niederwieser et al. (2022), Section 4.1, Steps 1–4, eqs. (28)–(54): round
-    robin over active chains, minimum-norm ζ in (33), stable sort in (41), Step 3
-    by the explicit index formula of (49)–(50).  Appendix A.1 for ``D ≠ 0``;
+    Niederwieser et al. (2022), Section 4.1, Steps 1–4, eqs. (28)–(54), with these
+    choices where the paper leaves them open: round robin over active chains,
+    minimum-norm ζ in (33), stable sort in (41), Step 3 by the element-wise form of
+    (11b) instead of the garbled (49) (docs/errata.md, N2).  Appendix A.1 for ``D ≠ 0``;
     Section 5.4 for ``reconstruct_input``.  Exact over Q; the cost is dominated by
     O(n) exact ranks of n×n matrices and the growth of the entries of ``T``.
 

@@ -1,4 +1,4 @@
-"""The design object of the observer normal form (paper 000): ``NormalFormDesign``.
+"""The design object of the observer normal form (Niederwieser et al. 2022): ``NormalFormDesign``.
 
 Package notation (one notation for every method; the paper's letters in the
 right column)::
@@ -8,7 +8,7 @@ right column)::
     normal form (11)   x̄' = Ā x̄ + B̄ w_m + Ē ū,   ȳ = C̄ x̄,   x_m = T x̄,   ȳ = Γ ỹ_1
 
 ==========================  ============================  ==========================
-package                     paper 000                     meaning
+package                     Niederwieser et al.           meaning
 ==========================  ============================  ==========================
 ``w``                       Δ                             unknown input
 ``u``                       u                             known input
@@ -47,7 +47,7 @@ __all__ = ["NormalFormDesign", "Step1Trace"]
 
 @dataclass(frozen=True, repr=False)
 class NormalFormDesign(ObserverDesign):
-    """An observer-normal-form design (paper 000), in package notation (table in the module
+    """An observer-normal-form design (Niederwieser et al. 2022), in package notation (table in the module
     docstring: ``B_bar`` is the paper's D̄, ``E_bar`` its B̄).
 
     The *model* is the system the normal form is computed for: the plant after

@@ -1,4 +1,4 @@
-"""The observer gains of paper 000: one Levant robust exact differentiator per chain.
+"""The observer gains of Niederwieser et al. (2022): one Levant robust exact differentiator per chain.
 
 Chain ``j`` (length ``μ_j``) gets gains ``κ_{j,μ_j−1}, …, κ_{j,0}`` (top row to bottom
 row).  The necessary condition (18) asks ``κ_{j,0} > Σ_i L_i |b̄_{e_j,i}|`` wherever

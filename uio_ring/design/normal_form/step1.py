@@ -1,4 +1,4 @@
-"""Step 1 of paper 000 (Section 4.1, (28)–(45)): the output transformation Γ, the output
+"""Step 1 of Niederwieser et al. (2022) (Section 4.1, (28)–(45)): the output transformation Γ, the output
 injection Ξ and the chain lengths.
 
 For the model ``x' = A x + B w``, ``y = C x`` (``B`` the unknown input; the
@@ -83,7 +83,7 @@ class OutputChains:
 
 
 def output_chains(A: QMatrix, B: QMatrix, C: QMatrix) -> OutputChains:
-    """Step 1 of paper 000 for ``x' = A x + B w``, ``y = C x`` (``B``: the unknown input).
+    """Step 1 of Niederwieser et al. (2022) for ``x' = A x + B w``, ``y = C x`` (``B``: the unknown input).
 
     Raises
     ------

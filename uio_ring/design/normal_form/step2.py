@@ -1,4 +1,4 @@
-"""Step 2 of paper 000 (Section 4.1, (25), (46)–(47)): ``O_R`` and the last column of each
+"""Step 2 of Niederwieser et al. (2022) (Section 4.1, (25), (46)–(47)): ``O_R`` and the last column of each
 block of ``T``.
 
 ``O_R = [č_1; č_1 Ǎ; …; č_1 Ǎ^{μ_1−1}; …; č_p; …; č_p Ǎ^{μ_p−1}]`` (n×n, nonsingular by

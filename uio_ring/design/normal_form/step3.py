@@ -1,8 +1,9 @@
-"""Step 3 of paper 000 (Section 4.1, (48)–(53)): the coupling coefficients β.
+"""Step 3 of Niederwieser et al. (2022) (Section 4.1, (48)–(53)): the coupling coefficients β.
 
 For each chain ``j`` with later, shorter chains ``r`` (``μ_r < μ_j``) the unknowns
 ``β_{j,r,l}``, ``l = μ_r … μ_j − 1`` (ascending ``l``), solve ``H^{(j)} β^{(j)} = w^{(j)}`` with
-(explicit form of (49)–(50); ``a = 1 … μ_j − μ_r``, ``b = 1 … μ_j − μ_s``)::
+(the element-wise form of (49)–(50), docs/errata.md, N2; ``a = 1 … μ_j − μ_r``,
+``b = 1 … μ_j − μ_s``)::
 
     H^{(j)}_{r,s}(a, b) = č_r Ǎ^{μ_s + b − a − 1} t_{e_s}   (0 when the power is negative)
     w^{(j)}_r(a)       = č_r Ǎ^{μ_j − a} t_{e_j}

@@ -1,4 +1,4 @@
-"""Step 4 of paper 000 (Section 4.1, (54), (21)): the transformation ``T`` and the normal form.
+"""Step 4 of Niederwieser et al. (2022) (Section 4.1, (54), (21)): the transformation ``T`` and the normal form.
 
 The columns of ``T`` (54), block ``j``, ``i = 0 … μ_j − 1``::
 
