@@ -34,6 +34,7 @@ import flint
 
 from uio_ring.ring import constant as kernel
 from uio_ring.ring.errors import DimensionError, DomainError
+from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
 
 __all__ = ["QMatrix", "RowEchelon"]
@@ -125,7 +126,7 @@ class QMatrix:
     def __init__(self, data: Any, *, shape: tuple[int, int] | None = None):
         if isinstance(data, QMatrix):
             q = data._q
-        elif getattr(data, "_is_polymatrix", False):
+        elif isinstance(data, PolyMatrix):
             q = QMatrix.from_polymatrix(data)._q
         elif isinstance(data, Iterable) and not isinstance(data, (str, bytes)):
             rows = []
@@ -177,7 +178,7 @@ class QMatrix:
         return cls._wrap(q)
 
     @classmethod
-    def from_polymatrix(cls, P: Any, *, name: str = "matrix") -> QMatrix:
+    def from_polymatrix(cls, P: PolyMatrix, *, name: str = "matrix") -> QMatrix:
         """A PolyMatrix of degree ≤ 0 as a QMatrix (``DomainError`` naming ``name`` otherwise)."""
         return cls._wrap(kernel.qmat(P, name))
 
@@ -246,7 +247,7 @@ class QMatrix:
         """Entries as nested lists of Fractions."""
         return [[_frac(x) for x in r] for r in self._q.tolist()] if self.cols else [[] for _ in range(self.rows)]
 
-    def to_polymatrix(self, var: str = "d") -> Any:
+    def to_polymatrix(self, var: str = "d") -> PolyMatrix:
         """The same matrix as a constant :class:`~uio_ring.ring.matrix.PolyMatrix` in ``var``."""
         return kernel.to_polymatrix(self._q, var)
 
