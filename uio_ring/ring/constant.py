@@ -25,6 +25,7 @@ import flint
 
 from uio_ring.ring.errors import DimensionError, DomainError
 from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.parse import canonical_var
 
 __all__ = [
     "QMat",
@@ -110,11 +111,12 @@ def to_fractions(Q: QMat) -> list[list[Fraction]]:
 
 
 def to_polymatrix(Q: QMat, var: str = "d") -> PolyMatrix:
-    """An ``fmpq_mat`` as a constant PolyMatrix in ``var``."""
+    """An ``fmpq_mat`` as a constant PolyMatrix in ``var`` (entry by entry, no parsing)."""
     m, n = Q.nrows(), Q.ncols()
     if m == 0 or n == 0:
         return PolyMatrix.zeros(m, n, var)
-    return PolyMatrix(to_fractions(Q), var)
+    rows = [[flint.fmpq_poly([x]) if x != 0 else flint.fmpq_poly() for x in r] for r in Q.tolist()]
+    return PolyMatrix._new(rows, m, n, canonical_var(var))
 
 
 def is_qzero(Q: QMat) -> bool:
