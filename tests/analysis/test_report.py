@@ -17,6 +17,7 @@ from uio_ring.analysis import (
     relative_degrees,
     unknown_input_observability,
 )
+from uio_ring.analysis.molinari import molinari_sequence
 
 #: strongly observable, CB = 0 (the rank condition fails); y = x_1 only
 SYS = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None)
@@ -33,6 +34,7 @@ CHECKS = [
     normal_form_applicable,
     relative_degrees,
     observability_indices,
+    molinari_sequence,
 ]
 
 

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from uio_ring.analysis.report import Report
 from uio_ring.errors import DomainError
 from uio_ring.ring.kernel import left_kernel
 from uio_ring.ring.matrix import PolyMatrix
@@ -36,8 +37,8 @@ __all__ = ["MolinariSequence", "molinari_sequence"]
 
 
 @dataclass(frozen=True)
-class MolinariSequence:
-    """The sequence and its verdict.
+class MolinariSequence(Report):
+    """The sequence and its verdict (a :class:`~uio_ring.analysis.report.Report`).
 
     Attributes
     ----------
@@ -66,11 +67,12 @@ class MolinariSequence:
     def n(self) -> int:
         return self.M[0].cols if self.M else 0
 
-    def __str__(self) -> str:
-        head = f"Molinari sequence (Bejarano, Fridman & Poznyak 2007, Algorithm 1): ranks {list(self.ranks)}"
-        if self.holds:
-            return f"{head}, l = {self.l}: strongly observable"
-        return f"{head}: {self.reason}"
+    @property
+    def name(self) -> str:
+        return "strongly observable (Molinari sequence; Bejarano, Fridman & Poznyak 2007, Algorithm 1)"
+
+    def _detail_lines(self) -> list[str]:
+        return [f"ranks {list(self.ranks)}" + (f", l = {self.l}" if self.holds else "")]
 
 
 def _annihilator(X: PolyMatrix) -> PolyMatrix:
