@@ -25,6 +25,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
+from uio_ring.ring.matrix import require_matrix
 
 if TYPE_CHECKING:
     from uio_ring.ring.matrix import PolyMatrix
@@ -200,6 +201,7 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     --------
     is_hermite, uio_ring.ring.smith.smith
     """
+    M = require_matrix(M, "hermite")
     from uio_ring.ring.matrix import PolyMatrix
 
     m, n = M.shape
@@ -249,6 +251,7 @@ def is_hermite(H: PolyMatrix) -> bool:
     >>> is_hermite(PolyMatrix("[[1, d], [0, d**2]]")), is_hermite(PolyMatrix("[[0, 1], [1, 0]]"))
     (True, False)
     """
+    H = require_matrix(H, "is_hermite")
     last = -1
     seen_zero = False
     pivots: list[tuple[int, int]] = []

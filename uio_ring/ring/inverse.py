@@ -20,6 +20,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import reduce_transform, row_echelon
+from uio_ring.ring.matrix import require_matrix
 
 if TYPE_CHECKING:
     from uio_ring.ring.matrix import PolyMatrix
@@ -29,6 +30,7 @@ __all__ = ["is_unimodular", "is_left_unimodular", "is_right_unimodular", "left_i
 
 def is_unimodular(M: PolyMatrix) -> bool:
     """Square with determinant a nonzero constant (0×0 counts)."""
+    M = require_matrix(M, "is_unimodular")
     if M.rows != M.cols:
         return False
     return M.det().degree() == 0
@@ -44,6 +46,7 @@ def _echelon_unit_pivots(M: PolyMatrix, u: dn.Rows | None) -> tuple[dn.Rows, lis
 
 def is_left_unimodular(M: PolyMatrix) -> bool:
     """True if ``X @ M == I`` has a polynomial solution X (rank n, invariant factors 1)."""
+    M = require_matrix(M, "is_left_unimodular")
     m, n = M.shape
     if n > m:
         return False
@@ -55,6 +58,7 @@ def is_left_unimodular(M: PolyMatrix) -> bool:
 
 def is_right_unimodular(M: PolyMatrix) -> bool:
     """True if ``M @ X == I`` has a polynomial solution X."""
+    M = require_matrix(M, "is_right_unimodular")
     return is_left_unimodular(M.T)
 
 
@@ -76,6 +80,7 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     >>> left_inverse(PolyMatrix("[[1, d], [0, 1]]"))
     PolyMatrix([[1, -d], [0, 1]])
     """
+    M = require_matrix(M, "left_inverse")
     from uio_ring.ring.matrix import PolyMatrix
 
     m, n = M.shape
@@ -116,4 +121,5 @@ def right_inverse(M: PolyMatrix) -> PolyMatrix:
     >>> M @ right_inverse(M) == PolyMatrix.identity(2)
     True
     """
+    M = require_matrix(M, "right_inverse")
     return left_inverse(M.T).T

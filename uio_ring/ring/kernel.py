@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 from uio_ring.ring import _dense as dn
 from uio_ring.ring.hermite import reduce_transform, row_echelon
+from uio_ring.ring.matrix import require_matrix
 
 if TYPE_CHECKING:
     from uio_ring.ring.matrix import PolyMatrix
@@ -32,6 +33,7 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
     Shape ``(M.rows − rank M) × M.rows``; a ``0 × M.rows`` matrix when M has full
     row rank.
     """
+    M = require_matrix(M, "left_kernel")
     from uio_ring.ring.matrix import PolyMatrix
 
     m, n = M.shape
@@ -44,4 +46,5 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
 
 def right_kernel(M: PolyMatrix) -> PolyMatrix:
     """Columns x with ``M @ x == 0``: the transpose of ``left_kernel(M.T)``."""
+    M = require_matrix(M, "right_kernel")
     return left_kernel(M.T).T

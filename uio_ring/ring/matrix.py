@@ -20,7 +20,7 @@ PolyMatrix([[1, 2], [0, 0]])
 from __future__ import annotations
 
 import operator
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence, Set
 from fractions import Fraction
 from typing import Any
 
@@ -32,7 +32,7 @@ from uio_ring.ring.errors import DimensionError, DomainError
 from uio_ring.ring.parse import canonical_var, parse_matrix
 from uio_ring.ring.poly import Poly, exact_fraction, to_raw
 
-__all__ = ["PolyMatrix", "Poly"]
+__all__ = ["PolyMatrix", "Poly", "require_matrix"]
 
 _MAX_REPR_ROWS = 40
 
@@ -76,10 +76,26 @@ class PolyMatrix:
             elif hasattr(data, "tolist") and hasattr(data, "shape") and not isinstance(data, (list, tuple)):
                 if hasattr(data, "free_symbols"):
                     return self._init_from(PolyMatrix.from_sympy(data, var))
-                rows = [[to_raw(x, var, f"entry ({i}, {j})") for j, x in enumerate(r)] for i, r in enumerate(data.tolist())]
+                if len(data.shape) != 2:
+                    raise DimensionError(
+                        f"a {len(data.shape)}-dimensional array of shape {tuple(data.shape)} is not a matrix; "
+                        "give a 2-dimensional array (e.g. a.reshape(1, -1) for one row)"
+                    )
+                items = data.tolist() if getattr(data, "dtype", None) is None or data.dtype.kind != "f" else [
+                    list(r) for r in data  # NumPy floats keep their type: read through their own decimal text
+                ]
+                rows = [[to_raw(x, var, f"entry ({i}, {j})") for j, x in enumerate(r)] for i, r in enumerate(items)]
+            elif isinstance(data, (Set, Mapping)):
+                raise DimensionError(
+                    f"a {type(data).__name__} has no order; a matrix is a list of rows, e.g. [[1, 'd'], [0, 1]]"
+                )
             elif isinstance(data, Iterable):
                 rows = []
                 for i, r in enumerate(data):
+                    if isinstance(r, (Set, Mapping)):
+                        raise DimensionError(
+                            f"row {i} is a {type(r).__name__}, which has no order; give each row as a list"
+                        )
                     if isinstance(r, (str, bytes)) or not isinstance(r, Iterable):
                         raise DimensionError(
                             f"row {i} is {r!r}; a matrix is a list of rows, e.g. [[1, 'd'], [0, 1]]"
@@ -331,18 +347,30 @@ class PolyMatrix:
             )
         return other
 
+    #: NumPy defers to our reflected operators instead of building object arrays.
+    __array_ufunc__ = None
+
     def __add__(self, other: Any) -> PolyMatrix:
         if not isinstance(other, PolyMatrix):
-            return NotImplemented
+            return _no_array("+", other)
         o = self._check("+", other)
         if o.shape != self.shape:
             raise DimensionError(f"cannot add a {self._m}×{self._n} and a {o._m}×{o._n} matrix")
         rows = [[a + b for a, b in zip(ra, rb, strict=True)] for ra, rb in zip(self._r, o._r, strict=True)]
         return PolyMatrix._new(rows, self._m, self._n, self.var)
 
+    def __radd__(self, other: Any) -> PolyMatrix:
+        return _no_array("+", other)
+
+    def __rsub__(self, other: Any) -> PolyMatrix:
+        return _no_array("-", other)
+
+    def __rmatmul__(self, other: Any) -> PolyMatrix:
+        return _no_array("@", other)
+
     def __sub__(self, other: Any) -> PolyMatrix:
         if not isinstance(other, PolyMatrix):
-            return NotImplemented
+            return _no_array("-", other)
         o = self._check("-", other)
         if o.shape != self.shape:
             raise DimensionError(f"cannot subtract a {o._m}×{o._n} from a {self._m}×{self._n} matrix")
@@ -357,7 +385,7 @@ class PolyMatrix:
 
     def __matmul__(self, other: Any) -> PolyMatrix:
         if not isinstance(other, PolyMatrix):
-            return NotImplemented
+            return _no_array("@", other)
         o = self._check("@", other)
         if self._n != o._m:
             raise DimensionError(
@@ -466,6 +494,30 @@ class PolyMatrix:
 
     def __bool__(self) -> bool:
         raise TypeError("the truth value of a PolyMatrix is ambiguous; use M.is_zero() or ==")
+
+
+def require_matrix(M: Any, func: str) -> PolyMatrix:
+    """The argument check of every public ring function: a PolyMatrix, or a
+    :class:`DomainError` that says how to make one (nothing is coerced).
+
+    >>> require_matrix([[1, 2]], "hermite")
+    Traceback (most recent call last):
+    ...
+    uio_ring.ring.errors.DomainError: hermite: expected a PolyMatrix, got list; wrap it: hermite(PolyMatrix(...))
+    """
+    if isinstance(M, PolyMatrix):
+        return M
+    raise DomainError(f"{func}: expected a PolyMatrix, got {type(M).__name__}; wrap it: {func}(PolyMatrix(...))")
+
+
+def _no_array(op: str, other: Any) -> Any:
+    """Arrays (NumPy, lists of lists) are not coerced by operators: refuse with the fix."""
+    if hasattr(other, "__array__") or hasattr(other, "__array_interface__") or isinstance(other, (list, tuple)):
+        raise DomainError(
+            f"{op}: a PolyMatrix and a {type(other).__name__} do not combine; convert the other operand "
+            "with PolyMatrix(...) first (floats are read through their decimal text)"
+        )
+    return NotImplemented
 
 
 def _coef(p: flint.fmpq_poly, e: int) -> flint.fmpq_poly:

@@ -20,7 +20,7 @@ import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring.errors import DomainError
-from uio_ring.ring.parse import canonical_var, parse_poly
+from uio_ring.ring.parse import _short, canonical_var, decimal_fraction, parse_poly
 
 __all__ = ["Poly", "to_raw", "exact_fraction"]
 
@@ -28,10 +28,18 @@ __all__ = ["Poly", "to_raw", "exact_fraction"]
 def exact_fraction(value: Any, where: str = "value") -> Fraction:
     """An exact Fraction from int, Fraction, str, or float (read through its decimal text).
 
+    One rule for every binary floating-point number: it is read through its
+    shortest decimal text, never its binary value.  That holds for Python
+    floats (``0.1`` → 1/10) and for NumPy floating scalars (``np.float64(0.1)``
+    and ``np.float32(0.1)`` → 1/10, the text NumPy prints).  NumPy integers are
+    integers; ``decimal.Decimal`` is read from its text.  Text and decimals are
+    bounded (``uio_ring.ring.parse.MAX_NUMBER_DIGITS``) before they are built.
+    Bools, complex numbers, NaN and infinities raise :class:`DomainError`.
+
     >>> exact_fraction(0.1), exact_fraction("2/6")
     (Fraction(1, 10), Fraction(1, 3))
     """
-    if isinstance(value, bool):
+    if isinstance(value, bool) or type(value).__name__ == "bool_":
         raise DomainError(f"{where}: a bool is not a number")
     if isinstance(value, Fraction):
         return value
@@ -39,7 +47,7 @@ def exact_fraction(value: Any, where: str = "value") -> Fraction:
         return Fraction(int(value))
     if isinstance(value, Rational):
         return Fraction(int(value.numerator), int(value.denominator))
-    if isinstance(value, float):
+    if isinstance(value, float) and type(value) is float:
         if value != value or value in (float("inf"), float("-inf")):
             raise DomainError(f"{where}: {value} is not a finite number")
         return Fraction(repr(value))  # decimal text: 0.1 -> 1/10
@@ -48,16 +56,29 @@ def exact_fraction(value: Any, where: str = "value") -> Fraction:
     if isinstance(value, str):
         p = parse_poly(value, "d")
         if p.degree() > 0:
-            raise DomainError(f"{where}: {value!r} is not a constant")
+            raise DomainError(f"{where}: {_short(value)} is not a constant")
         return bk.to_fraction(p[0]) if not p.is_zero() else Fraction(0)
-    try:  # numpy scalars and the like, via their text
-        import numbers
-
-        if isinstance(value, numbers.Real):
-            return exact_fraction(float(value), where)
-    except (TypeError, ValueError):  # pragma: no cover
-        pass
-    raise DomainError(f"{where}: cannot read {value!r} ({type(value).__name__}) as an exact rational")
+    module = type(value).__module__
+    if module == "numpy" and hasattr(value, "dtype"):
+        kind = value.dtype.kind
+        if kind in "iu":
+            return Fraction(int(value))
+        if kind == "f":  # NumPy prints the shortest text that reads back to the same value
+            text = str(value)
+            if text in ("nan", "inf", "-inf"):
+                raise DomainError(f"{where}: {text} is not a finite number")
+            return decimal_fraction(text, where)
+        raise DomainError(f"{where}: a NumPy {value.dtype} value {value!r} is not a rational number")
+    if module == "decimal" and type(value).__name__ == "Decimal":
+        if not value.is_finite():
+            raise DomainError(f"{where}: {value} is not a finite number")
+        return decimal_fraction(str(value), where)
+    if isinstance(value, float):  # a float subclass other than NumPy's
+        return exact_fraction(float(value), where)
+    raise DomainError(
+        f"{where}: cannot read {_short(repr(value))} ({type(value).__name__}) as an exact rational; "
+        "give an int, a Fraction, a float or decimal text such as '0.1' or '1/3'"
+    )
 
 
 def to_raw(value: Any, var: str, where: str = "entry") -> flint.fmpq_poly:

@@ -29,6 +29,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring.errors import DimensionError
+from uio_ring.ring.matrix import require_matrix
 from uio_ring.ring.poly import Poly
 
 if TYPE_CHECKING:
@@ -39,6 +40,7 @@ __all__ = ["rank", "det", "det_raw"]
 
 def rank(M: PolyMatrix) -> int:
     """Rank of M over Q[δ] (deterministic, exact)."""
+    M = require_matrix(M, "rank")
     m, n = M.shape
     if m == 0 or n == 0 or M.is_zero():
         return 0
@@ -63,6 +65,7 @@ def rank(M: PolyMatrix) -> int:
 
 def det(M: PolyMatrix) -> Poly:
     """Determinant of a square matrix over Q[δ]."""
+    M = require_matrix(M, "det")
     m, n = M.shape
     if m != n:
         raise DimensionError(f"det needs a square matrix; this one is {m}×{n}")

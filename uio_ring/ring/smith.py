@@ -26,6 +26,7 @@ from uio_ring.ring._generic import (
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
 from uio_ring.ring.hermite import reduce_transform, row_echelon
+from uio_ring.ring.matrix import require_matrix
 from uio_ring.ring.poly import Poly
 
 if TYPE_CHECKING:
@@ -178,6 +179,7 @@ def smith(M: PolyMatrix) -> SmithResult:
     --------
     invariant_factors, is_smith
     """
+    M = require_matrix(M, "smith")
     from uio_ring.ring.matrix import PolyMatrix
 
     m, n = M.shape
@@ -246,6 +248,7 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     >>> invariant_factors(PolyMatrix("[[d, 0], [0, d**2], [1, 1]]"))
     (1, d)
     """
+    M = require_matrix(M, "invariant_factors")
     from uio_ring.ring.matrix import PolyMatrix
 
     m, n = M.shape
@@ -279,6 +282,7 @@ def is_smith(S: PolyMatrix) -> bool:
     >>> is_smith(PolyMatrix.diag(1, "d")), is_smith(PolyMatrix.diag("d", 1))
     (True, False)
     """
+    S = require_matrix(S, "is_smith")
     m, n = S.shape
     a = S._r
     for i in range(m):

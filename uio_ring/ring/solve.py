@@ -26,6 +26,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
 from uio_ring.ring.hermite import reduce_transform, row_echelon
+from uio_ring.ring.matrix import require_matrix
 
 if TYPE_CHECKING:
     from uio_ring.ring.matrix import PolyMatrix
@@ -57,6 +58,8 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         No polynomial X exists (the message names the row of W and whether the
         obstruction is rank or divisibility).
     """
+    V = require_matrix(V, "solve_left")
+    W = require_matrix(W, "solve_left")
     from uio_ring.ring.matrix import PolyMatrix
 
     V._check("solve_left", W)
@@ -115,4 +118,6 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
 
 def solve_right(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
     """A polynomial X with ``V @ X == W``: the transpose of ``solve_left(V.T, W.T)``."""
+    V = require_matrix(V, "solve_right")
+    W = require_matrix(W, "solve_right")
     return solve_left(V.T, W.T).T
