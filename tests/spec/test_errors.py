@@ -31,7 +31,7 @@ CASES = [
     ("sytem:\n" + BASE_SYSTEM, r"^sytem: unknown key 'sytem'; did you mean 'system'\?"),
     (spec_with(BASE_SYSTEM, "design:\n  method: zheng-bejarno\n"), r"^design\.method: unknown key|^design\.method: .*did you mean 'zheng-bejarano'"),
     (spec_with("  A: {0: [[0]], 0.5: [[1]]}\n  B: [[1]]\n  C: [[1]]\n  h: 1\n"), r"^system\.A: delay multiple 0\.5 is not a whole number"),
-    (spec_with("  A: [[d**100]]\n  B: [[1]]\n  C: [[1]]\n  h: 1\n"), r"^system\.A: δ-degree 100 exceeds the limit"),
+    (spec_with("  A: [[d**100]]\n  B: [[1]]\n  C: [[1]]\n  h: 1\n"), r"^system\.A\[0\]\[0\]: 'd\*\*100', column 4: the power has degree 100, above the limit 16"),
     (spec_with("  A: [[d]]\n  B: [[1]]\n  C: [[1]]\n"), r"^system\.h: the matrices contain d .* add h"),
     (spec_with("  A: [[x]]\n  B: [[1]]\n  C: [[1]]\n  h: 1\n"), r"^system\.A\[0\]\[0\]: .*unknown symbol 'x'"),
     (spec_with("  A: [[sqrt(2)]]\n  B: [[1]]\n  C: [[1]]\n  h: 1\n"), r"^system\.A\[0\]\[0\]: .*'sqrt' is not rational"),

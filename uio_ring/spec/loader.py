@@ -22,6 +22,7 @@ from __future__ import annotations
 import difflib
 import json
 import math
+import re
 from dataclasses import dataclass, field
 from fractions import Fraction
 from importlib import resources
@@ -43,6 +44,8 @@ __all__ = [
     "MAX_DIMENSION",
     "MAX_DELAY_DEGREE",
     "MAX_STEPS",
+    "MAX_COEFFICIENT_BITS",
+    "MAX_SIMULATION_VALUE",
 ]
 
 #: Largest number of states, outputs or inputs accepted in a spec.
@@ -51,6 +54,16 @@ MAX_DIMENSION = 64
 MAX_DELAY_DEGREE = 16
 #: Most simulation steps accepted (t_final / dt).
 MAX_STEPS = 20_000_000
+#: Largest coefficient in a spec matrix, in bits (numerator plus denominator; about
+#: 3 600 decimal digits), bounded while parsing.
+MAX_COEFFICIENT_BITS = 12_000
+#: Largest single number (h, poles, options, simulation values), in bits: about 1 000 digits.
+MAX_NUMBER_BITS = 3_400
+#: Largest magnitude of a number the simulation uses (times, bounds, initial values):
+#: float64 arithmetic on larger values overflows.
+MAX_SIMULATION_VALUE = Fraction(10) ** 100
+#: Signal names: at most this many characters, none of ``. , " '`` or control characters.
+MAX_SIGNAL_NAME = 64
 
 _MATRIX_KEYS = ("A", "B", "C", "D", "E", "F")
 
@@ -146,22 +159,19 @@ class Spec:
 # entry points
 # ---------------------------------------------------------------------------------------
 def load_spec(path: str | Path) -> Spec:
-    """Read and validate a spec file."""
+    """Read and validate a spec file.
+
+    Only a regular file of at most ``MAX_BYTES`` is read (devices and pipes are
+    refused without reading).  Without a ``name:``, the spec is named after
+    the file's stem, made into a safe file name.
+    """
+    from uio_ring.spec.files import read_text_limited, sanitise_name
+    from uio_ring.spec.yaml_io import MAX_BYTES
+
     p = Path(path)
-    try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise SpecError(f"no such file: {p}") from None
-    except IsADirectoryError:
-        raise SpecError(f"{p} is a directory; give the spec file (.yaml)") from None
-    except OSError as exc:
-        raise SpecError(f"cannot read {p}: {exc.strerror}") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SpecError(f"{p} is not UTF-8 text; a spec is a YAML file") from None
+    text = read_text_limited(p, max_bytes=MAX_BYTES)
     spec = load_spec_text(text)
-    return Spec(spec.system, spec.design, spec.simulate, spec.output, spec.name or p.stem, str(p))
+    return Spec(spec.system, spec.design, spec.simulate, spec.output, spec.name or sanitise_name(p.stem), str(p))
 
 
 def load_spec_text(text: str) -> Spec:
@@ -186,12 +196,17 @@ def spec_from_dict(data: Any) -> Spec:
             if isinstance(system.get(k), dict):
                 for key in system[k]:
                     _delay_power(key, f"system.{k}")
+    _check_name_lists(data.get("system"))
     _validate_schema(data, sch)
     system = _read_system(data["system"])
     design = _read_design(data.get("design") or {})
     sim = _read_simulate(data["simulate"], system) if data.get("simulate") is not None else None
     output = _read_output(data.get("output") or {})
     name = data.get("name") or ""
+    if name:
+        from uio_ring.spec.files import safe_name
+
+        safe_name(str(name), "name")
     return Spec(system, design, sim, output, str(name))
 
 
@@ -206,7 +221,10 @@ def _fmt(x: Fraction) -> str:
             q //= prime
     if q != 1:
         return f"{x.numerator}/{x.denominator}"
-    text = f"{float(x):.15g}"
+    try:
+        text = f"{float(x):.15g}"
+    except OverflowError:
+        return f"{x.numerator}/{x.denominator}"
     return text if Fraction(text) == x else f"{x.numerator}/{x.denominator}"
 
 
@@ -248,6 +266,42 @@ def _check_keys(data: Any, node: dict[str, Any], path: str, root: dict[str, Any]
             hint = f"; did you mean '{close[0]}'?" if close else f"; allowed: {', '.join(props)}"
             raise SpecError(f"unknown key '{key}'{hint}", path=_join(path, key))
         _check_keys(data[key], props[key], _join(path, key), root)
+
+
+_NAME_KEYS = ("states", "outputs", "unknown_inputs", "known_inputs")
+_BAD_NAME = re.compile(r"[.,\"'\x00-\x1f\x7f]")
+
+
+def _check_name_lists(system: Any) -> None:
+    """Signal names become CSV column and plot labels: printable, distinct, and not ``t``.
+
+    Columns are ``t``, the states, the outputs, ``xhat_<state>`` and
+    ``error_<state>``; names are refused when they would collide there.
+    """
+    if not isinstance(system, dict):
+        return
+    owner: dict[str, str] = {}
+    for key in _NAME_KEYS:
+        names = system.get(key)
+        if not isinstance(names, list):
+            continue
+        for i, n in enumerate(names):
+            path = f"system.{key}[{i}]"
+            if not isinstance(n, str):
+                raise SpecError(f"{_kind(n)} {n!r} is not a name; quote it ('{n}') or use letters", path=path)
+            bad = _BAD_NAME.search(n)
+            if not n.strip() or n != n.strip():
+                raise SpecError(f"{n!r}: a name is non-empty without leading or trailing spaces", path=path)
+            if bad:
+                raise SpecError(f"the name {n[:40]!r} contains {bad.group()!r}; names may not contain . , quotes "
+                                "or control characters (they become CSV columns)", path=path)
+            if len(n) > MAX_SIGNAL_NAME:
+                raise SpecError(f"a name of {len(n)} characters is longer than {MAX_SIGNAL_NAME}", path=path)
+            if n == "t" or n.startswith(("xhat_", "error_")):
+                raise SpecError(f"the name {n!r} is reserved for the CSV columns t, xhat_…, error_…", path=path)
+            if n in owner:
+                raise SpecError(f"the name {n!r} is already used at {owner[n]}; names must be distinct", path=path)
+            owner[n] = path
 
 
 def _stringify_keys(x: Any) -> Any:
@@ -296,6 +350,7 @@ def _validate_schema(data: dict[str, Any], sch: dict[str, Any]) -> None:
 # system
 # ---------------------------------------------------------------------------------------
 def _entry(value: Any, path: str) -> Any:
+    from uio_ring.ring.parse import parse_poly
     from uio_ring.ring.poly import to_raw
 
     if isinstance(value, float):
@@ -303,6 +358,8 @@ def _entry(value: Any, path: str) -> Any:
     if isinstance(value, bool) or value is None:
         raise SpecError(f"{_kind(value)} is not a polynomial; write e.g. 0, 1/2 or 'd + 1'", path=path)
     try:
+        if isinstance(value, str):
+            return parse_poly(value, "d", max_degree=MAX_DELAY_DEGREE, max_bits=MAX_COEFFICIENT_BITS)
         return to_raw(value if not isinstance(value, int) else int(value), "d", path)
     except (ParseError, DomainError) as exc:
         msg = str(exc)
@@ -337,16 +394,26 @@ def _matrix(value: Any, path: str) -> Any:
     from uio_ring.ring.matrix import PolyMatrix
 
     if isinstance(value, str):
-        try:
-            M = PolyMatrix(value)
+        from uio_ring.ring.parse import parse_matrix
+
+        try:  # degrees and sizes are bounded while parsing, before anything is expanded
+            rows = parse_matrix(value, "d", max_degree=MAX_DELAY_DEGREE, max_bits=MAX_COEFFICIENT_BITS)
+            M = PolyMatrix._new(rows, len(rows), len(rows[0]) if rows else 0, "d") if _rect(rows) else PolyMatrix(rows)
         except (ParseError, DomainError, DimensionError) as exc:
             raise SpecError(str(exc), path=path) from None
     elif isinstance(value, dict):
         if not value:
             raise SpecError("an empty coefficient mapping; give {0: [[...]], 1: [[...]]}", path=path)
         terms = []
+        seen: dict[int, Any] = {}
         for key, coeff in value.items():
             k = _delay_power(key, path)
+            if k in seen:
+                raise SpecError(
+                    f"the keys {seen[k]!r} and {key!r} both name the coefficient of d^{k}; give each power once",
+                    path=path,
+                )
+            seen[k] = key
             terms.append((k, _rows(coeff, f"{path}[{k}]")))
         shapes = {(k, M.shape) for k, M in terms}
         first_k, first = terms[0]
@@ -380,11 +447,17 @@ def _matrix(value: Any, path: str) -> Any:
     return M
 
 
+def _rect(rows: list[list[Any]]) -> bool:
+    return all(len(r) == len(rows[0]) for r in rows) if rows else True
+
+
 def _delay_power(key: Any, path: str) -> int:
+    from uio_ring.ring.parse import decimal_fraction
+
     text = _fmt(key) if isinstance(key, Fraction) else str(key).strip()
     try:
-        value = Fraction(text)
-    except (ValueError, ZeroDivisionError):
+        value = decimal_fraction(text) if len(text) <= 40 else Fraction(MAX_DELAY_DEGREE + 1)
+    except (ParseError, DomainError):
         raise SpecError(
             f"the key {text!r} is not a delay multiple; the keys are the powers of d (0, 1, 2, …)", path=path
         ) from None
@@ -400,16 +473,9 @@ def _delay_power(key: Any, path: str) -> int:
 
 
 def _positive(value: Any, path: str, what: str) -> Fraction:
-    from uio_ring.ring.poly import exact_fraction
-
-    if isinstance(value, float) and not math.isfinite(value):
-        raise SpecError(f"{value} is not a finite number", path=path)
-    try:
-        x = exact_fraction(value, path)
-    except (DomainError, ParseError) as exc:
-        raise SpecError(f"{value!r} is not a number ({exc})", path=path) from None
+    x = _exact(value, path, "a number")
     if x <= 0:
-        raise SpecError(f"{what} must be positive, got {x}", path=path)
+        raise SpecError(f"{what} must be positive, got {_fmt(x) if len(str(x.denominator)) < 40 else x}", path=path)
     return x
 
 
@@ -509,6 +575,29 @@ def _read_design(data: dict[str, Any]) -> DesignSpec:
     return DesignSpec(method=method, options={k: owners[k].read(v, f"design.{k}") for k, v in raw.items()})
 
 
+def _exact(value: Any, path: str, what: str = "an exact rational") -> Fraction:
+    """A number of a spec: exact, and bounded (at most ``MAX_NUMBER_BITS`` bits) before it is built."""
+    from uio_ring.ring import _backend as bk
+    from uio_ring.ring.parse import _short, parse_poly
+    from uio_ring.ring.poly import exact_fraction
+
+    if isinstance(value, float) and not math.isfinite(value):
+        raise SpecError(f"{value} is not a finite number", path=path)
+    try:
+        if isinstance(value, str):
+            p = parse_poly(value, "d", max_degree=MAX_DELAY_DEGREE, max_bits=MAX_NUMBER_BITS)
+            if p.degree() > 0:
+                raise SpecError(f"{_short(value)} is not {what}: it contains d", path=path)
+            return bk.to_fraction(p[0]) if not p.is_zero() else Fraction(0)
+        x = exact_fraction(value, path)
+    except (DomainError, ParseError) as exc:
+        msg = str(exc).removeprefix(f"{path}: ")
+        raise SpecError(f"{_short(str(value))} is not {what} ({msg})", path=path) from None
+    if x.numerator.bit_length() + x.denominator.bit_length() > MAX_NUMBER_BITS:
+        raise SpecError(f"a number of more than {MAX_NUMBER_BITS} bits (about 1 000 digits) is refused", path=path)
+    return x
+
+
 def _texts(value: Any, count: int, path: str, what: str, *, allow_broadcast: bool = False) -> tuple[str, ...]:
     from uio_ring.spec.expressions import parse_signal
 
@@ -529,9 +618,22 @@ def _texts(value: Any, count: int, path: str, what: str, *, allow_broadcast: boo
     return tuple(out)
 
 
+def _sim_value(x: Fraction, path: str) -> Fraction:
+    """A number the float64 simulation will use: refuse it when float64 cannot hold it."""
+    if abs(x) > MAX_SIMULATION_VALUE or (x != 0 and abs(x) < 1 / MAX_SIMULATION_VALUE):
+        raise SpecError(
+            f"{_fmt(x) if len(str(x.numerator)) < 40 else 'the value'} is outside the range the float64 simulation "
+            f"handles (magnitudes 1e-100 … 1e100; uio_ring.spec.loader.MAX_SIMULATION_VALUE)",
+            path=path,
+        )
+    return x
+
+
 def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
-    t_final = _positive(data["t_final"], "simulate.t_final", "t_final")
-    dt = _positive(data["dt"], "simulate.dt", "dt")
+    t_final = _sim_value(_positive(data["t_final"], "simulate.t_final", "t_final"), "simulate.t_final")
+    dt = _sim_value(_positive(data["dt"], "simulate.dt", "dt"), "simulate.dt")
+    if system.h is not None:
+        _sim_value(system.h, "system.h")
     h = system.h
     if h is None:
         h = dt  # a delay-free system: one grid step per "delay"
@@ -561,12 +663,13 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
     )
     x_hat0 = None
     if data.get("x_hat0") is not None:
-        from uio_ring.ring.poly import exact_fraction
 
         vals = data["x_hat0"]
         if len(vals) not in (system.n_x, system.n_x + system.n_w):
             raise SpecError(f"{len(vals)} values given for {system.n_x} states", path="simulate.x_hat0")
-        x_hat0 = tuple(exact_fraction(v, f"simulate.x_hat0[{i}]") for i, v in enumerate(vals))
+        x_hat0 = tuple(
+            _sim_value(_exact(v, f"simulate.x_hat0[{i}]"), f"simulate.x_hat0[{i}]") for i, v in enumerate(vals)
+        )
     noise_bound = None
     seed = 0
     if data.get("noise") is not None:
@@ -576,26 +679,47 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
             raise SpecError(f"{len(raw)} bounds given for {system.n_y} outputs", path="simulate.noise.bound")
         bounds = []
         for i, b in enumerate(raw):
-            from uio_ring.ring.poly import exact_fraction
-
-            x = exact_fraction(b, f"simulate.noise.bound[{i}]")
+            where = f"simulate.noise.bound[{i}]" if isinstance(nd["bound"], list) else "simulate.noise.bound"
+            x = _sim_value(_exact(b, where), where)
             if x < 0:
-                raise SpecError(f"the noise bound must be ≥ 0, got {x}", path="simulate.noise.bound")
+                raise SpecError(f"the noise bound must be ≥ 0, got {_fmt(x)}", path=where)
             bounds.append(x)
         noise_bound = tuple(bounds)
-        seed = int(nd.get("seed", 0))
+        seed = nd.get("seed", 0)
+        if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed < 2**63:
+            raise SpecError(f"the seed must be a whole number in 0 … 2**63 − 1, got {seed!r}", path="simulate.noise.seed")
     settle = None
     if data.get("settle") is not None:
-        from uio_ring.ring.poly import exact_fraction
 
-        settle = exact_fraction(data["settle"], "simulate.settle")
+        settle = _exact(data["settle"], "simulate.settle")
         if not 0 <= settle < t_final:
-            raise SpecError(f"settle = {settle} must lie in [0, t_final)", path="simulate.settle")
+            raise SpecError(f"settle = {_fmt(settle)} must lie in [0, t_final)", path="simulate.settle")
     return SimulateSpec(
         t_final, dt, h, w, u, phi, x_hat0, noise_bound, seed, settle, str(data.get("discretisation", "implicit"))
     )
 
 
 def _read_output(data: dict[str, Any]) -> OutputSpec:
+    """``output.directory`` is relative to the spec's folder and stays inside it."""
     formats = tuple(data.get("formats") or ())
-    return OutputSpec(directory=data.get("directory"), formats=formats)
+    directory = data.get("directory")
+    if directory is not None:
+        text = str(directory)
+        parts = text.replace("\\", "/").split("/")
+        if "\x00" in text or not text.strip():
+            raise SpecError(f"{text!r} is not a folder name", path="output.directory")
+        if Path(text).is_absolute() or text.startswith(("/", "\\", "~")) or (len(text) > 1 and text[1] == ":"):
+            raise SpecError(
+                f"{text!r} is absolute; output.directory is relative to the spec's folder "
+                "(use --out to write elsewhere)",
+                path="output.directory",
+            )
+        if ".." in parts:
+            raise SpecError(
+                f"{text!r} leaves the spec's folder ('..'); output.directory stays inside it "
+                "(use --out to write elsewhere)",
+                path="output.directory",
+            )
+        if len(text) > 255:
+            raise SpecError(f"a folder name of {len(text)} characters is too long (at most 255)", path="output.directory")
+    return OutputSpec(directory=directory, formats=formats)

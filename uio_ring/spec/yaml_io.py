@@ -2,6 +2,16 @@
 
 * Numbers keep their decimal text: ``0.01`` is read as ``Fraction(1, 100)``,
   never through a binary float (PyYAML's float constructor is replaced).
+* One rule for plain scalars, YAML 1.2's core schema: numbers are decimal
+  (``017`` is 17, ``1:30``, ``0x1F``, ``0o17`` and ``1_000`` are text, not
+  numbers — YAML 1.1's sexagesimal, octal and hexadecimal forms are not
+  used), booleans are ``true``/``false`` only (``yes``, ``no``, ``on``,
+  ``off`` are text), and dates stay text.  Explicitly tagged ``!!int`` and
+  ``!!float`` values must be decimal too.
+* Numbers are bounded before they are built (``uio_ring.ring.parse.MAX_NUMBER_DIGITS``
+  digits): ``1e99999999`` is refused, not expanded.
+* A key may appear once in a mapping: a repeated ``A`` (or ``0`` and
+  ``'0'``) is an error naming the path, never "the last one wins".
 * Only the safe subset of YAML (no Python objects).
 * Limits against hostile files: the text size, the number of aliases
   (a "billion laughs" bomb expands a few aliases into gigabytes) and the
@@ -13,6 +23,7 @@
 
 from __future__ import annotations
 
+import re
 from fractions import Fraction
 from typing import Any
 
@@ -30,13 +41,23 @@ MAX_ALIASES = 20
 MAX_DEPTH = 20
 
 
+_MERGE = "tag:yaml.org,2002:merge"
+
+
 class _ExactLoader(yaml.SafeLoader):
-    """SafeLoader with exact numbers and alias/depth limits."""
+    """SafeLoader with YAML 1.2 core scalars, exact numbers, unique keys and alias/depth limits."""
 
     def __init__(self, stream: str):
         super().__init__(stream)
         self._aliases = 0
         self._depth = 0
+        self._path: list[Any] = []
+
+    def path_text(self, extra: Any = None) -> str:
+        out = ""
+        for part in [*self._path, *([] if extra is None else [extra])]:
+            out = f"{out}[{part}]" if isinstance(part, int) else (f"{out}.{part}" if out else str(part))
+        return out
 
     def compose_node(self, parent: Any, index: Any) -> Any:  # type: ignore[override]
         if self.check_event(yaml.AliasEvent):
@@ -48,33 +69,101 @@ class _ExactLoader(yaml.SafeLoader):
                     "limited to refuse 'billion laughs' files — write the values out"
                 )
         self._depth += 1
+        pushed = index is not None
+        if pushed:
+            self._path.append(index if isinstance(index, int) else getattr(index, "value", "?"))
         try:
             if self._depth > MAX_DEPTH:
                 mark = self.peek_event().start_mark
-                raise SpecError(f"nesting deeper than {MAX_DEPTH} levels (line {mark.line + 1})")
+                raise SpecError(f"nesting deeper than {MAX_DEPTH} levels (line {mark.line + 1})", path=self.path_text() or None)
             return super().compose_node(parent, index)
         finally:
             self._depth -= 1
+            if pushed:
+                self._path.pop()
+
+    def compose_scalar_node(self, anchor: Any) -> Any:
+        node = super().compose_scalar_node(anchor)
+        if node.tag == "tag:yaml.org,2002:int":
+            _exact_int(self, node)  # checked here, where the path is known
+        elif node.tag == "tag:yaml.org,2002:float":
+            _exact_float(self, node)
+        return node
+
+    def compose_mapping_node(self, anchor: Any) -> Any:
+        node = super().compose_mapping_node(anchor)
+        seen: dict[str, int] = {}
+        for key, _ in node.value:
+            if not isinstance(key, yaml.ScalarNode) or key.tag == _MERGE:
+                continue
+            text = str(key.value).strip()
+            line = key.start_mark.line + 1
+            if text in seen:
+                raise SpecError(
+                    f"the key {text!r} appears twice (lines {seen[text]} and {line}); each key may appear once",
+                    path=self.path_text(text),
+                )
+            seen[text] = line
+        return node
 
 
-def _exact_float(loader: yaml.SafeLoader, node: yaml.ScalarNode) -> Any:
-    text = str(loader.construct_scalar(node)).replace("_", "")
+# YAML 1.2 core schema for plain scalars (PyYAML implements YAML 1.1's wider rules).
+_ExactLoader.yaml_implicit_resolvers = {}
+for _tag, _regexp, _first in (
+    ("tag:yaml.org,2002:bool", r"^(?:true|True|TRUE|false|False|FALSE)$", "tTfF"),
+    ("tag:yaml.org,2002:int", r"^[-+]?[0-9]+$", "-+0123456789"),
+    (
+        "tag:yaml.org,2002:float",
+        r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$",
+        "-+0123456789.",
+    ),
+    ("tag:yaml.org,2002:null", r"^(?:~|null|Null|NULL|)$", ["~", "n", "N", ""]),
+    (_MERGE, r"^(?:<<)$", "<"),
+):
+    _ExactLoader.add_implicit_resolver(_tag, re.compile(_regexp), list(_first))
+
+
+def _number_error(loader: _ExactLoader, node: yaml.ScalarNode, message: str) -> SpecError:
+    return SpecError(f"{message} (line {node.start_mark.line + 1})", path=loader.path_text() or None)
+
+
+def _exact_float(loader: _ExactLoader, node: yaml.ScalarNode) -> Any:
+    from uio_ring.ring.errors import DomainError, ParseError
+    from uio_ring.ring.parse import decimal_fraction
+
+    text = str(loader.construct_scalar(node))
     low = text.lower()
     if low in (".inf", "+.inf", "-.inf", ".nan"):
         return float(low.replace(".", "", 1))  # rejected later with a clear message
     try:
-        return Fraction(text)
-    except (ValueError, ZeroDivisionError):
-        return text
+        return decimal_fraction(text)
+    except DomainError as exc:
+        raise _number_error(loader, node, str(exc).removeprefix("number: ")) from None
+    except ParseError:
+        raise _number_error(loader, node, f"{text!r} is not a decimal number") from None
+
+
+def _exact_int(loader: _ExactLoader, node: yaml.ScalarNode) -> Any:
+    from uio_ring.ring.parse import MAX_NUMBER_DIGITS
+
+    text = str(loader.construct_scalar(node)).strip()
+    if not re.fullmatch(r"[-+]?[0-9]+", text):
+        raise _number_error(loader, node, f"{text!r} is not a decimal integer (numbers are read by YAML 1.2's rule)")
+    if len(text.lstrip("+-").lstrip("0")) > MAX_NUMBER_DIGITS:
+        raise _number_error(
+            loader, node, f"an integer of {len(text)} digits exceeds {MAX_NUMBER_DIGITS} digits (uio_ring.ring.parse.MAX_NUMBER_DIGITS)"
+        )
+    return int(text)
 
 
 _ExactLoader.add_constructor("tag:yaml.org,2002:float", _exact_float)
+_ExactLoader.add_constructor("tag:yaml.org,2002:int", _exact_int)
 
 
-def load_yaml_text(text: str) -> Any:
+def load_yaml_text(text: str, *, max_bytes: int = MAX_BYTES) -> Any:
     """Parse YAML text into plain data with exact numbers (raises :class:`SpecError`)."""
-    if len(text.encode("utf-8", errors="replace")) > MAX_BYTES:
-        raise SpecError(f"the file is larger than {MAX_BYTES} bytes; a spec is a few kilobytes")
+    if len(text) > max_bytes or len(text.encode("utf-8", errors="replace")) > max_bytes:
+        raise SpecError(f"the file is larger than {max_bytes} bytes; a spec is a few kilobytes")
     if not text.strip():
         raise SpecError("the file is empty; a spec needs at least a 'system' section")
     try:

@@ -1,0 +1,207 @@
+"""Files in and out, safely: bounded reads, safe names, all-or-nothing writes.
+
+* :func:`read_text_limited` reads at most ``max_bytes`` from a *regular* file.
+  Devices (``/dev/zero``), FIFOs and sockets are refused without reading, so a
+  pipe with no writer cannot block and an endless stream cannot fill memory.
+* :func:`safe_name` accepts a name only if it is one safe file name (no
+  separators, no ``..``, no leading dot, no control characters, at most
+  ``MAX_NAME`` characters), so a spec received from someone else cannot
+  direct output outside the output folder.
+* :class:`Outputs` writes every file under a temporary name in the target
+  folder and renames them all at the end.  A run that fails or is interrupted
+  (Ctrl-C) leaves no partial file.  An existing file is never replaced unless
+  ``force=True``; the check is made before any work, and again just before
+  the rename.
+
+>>> safe_name("zheng2015", "name")
+'zheng2015'
+>>> safe_name("../x", "name")
+Traceback (most recent call last):
+...
+uio_ring.errors.SpecError: name: '../x' is not a safe file name: it contains '/'; use letters, digits, '_', '-' and '.' (not first)
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from uio_ring.errors import SpecError
+
+__all__ = ["read_text_limited", "safe_name", "Outputs", "MAX_NAME"]
+
+#: Longest name (spec ``name``, file stem) accepted.
+MAX_NAME = 100
+
+_UNSAFE = re.compile(r"[/\\:*?\"<>|\x00-\x1f\x7f]")
+
+
+def read_text_limited(path: str | Path, *, max_bytes: int, what: str = "spec") -> str:
+    """The UTF-8 text of a regular file of at most ``max_bytes`` bytes (else :class:`SpecError`)."""
+    p = Path(path)
+    if "\x00" in str(path):
+        raise SpecError(f"the file name {str(path)!r} contains a NUL character")
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)
+    try:
+        fd = os.open(p, flags)  # non-blocking: opening a FIFO without a writer returns at once
+    except FileNotFoundError:
+        raise SpecError(f"no such file: {p}") from None
+    except IsADirectoryError:
+        raise SpecError(f"{p} is a directory; give the {what} file (.yaml)") from None
+    except OSError as exc:
+        raise SpecError(f"cannot read {p}: {exc.strerror}") from None
+    try:
+        info = os.fstat(fd)
+        if stat.S_ISDIR(info.st_mode):
+            raise SpecError(f"{p} is a directory; give the {what} file (.yaml)")
+        if not stat.S_ISREG(info.st_mode):
+            raise SpecError(f"{p} is not a regular file (a device, pipe or socket); give the {what} file (.yaml)")
+        if info.st_size > max_bytes:
+            raise SpecError(f"{p} is larger than {max_bytes} bytes; a {what} is a few kilobytes")
+        chunks = []
+        size = 0
+        while size <= max_bytes:
+            chunk = os.read(fd, min(1 << 20, max_bytes + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        if size > max_bytes:
+            raise SpecError(f"{p} is larger than {max_bytes} bytes; a {what} is a few kilobytes")
+    except OSError as exc:
+        raise SpecError(f"cannot read {p}: {exc.strerror}") from None
+    finally:
+        os.close(fd)
+    try:
+        return b"".join(chunks).decode("utf-8")
+    except UnicodeDecodeError:
+        raise SpecError(f"{p} is not UTF-8 text; a {what} is a YAML file") from None
+
+
+def safe_name(name: str, path: str) -> str:
+    """``name`` if it is one safe file name, else :class:`SpecError` at ``path`` saying why."""
+    why = None
+    m = _UNSAFE.search(name)
+    if not name.strip():
+        why = "it is empty"
+    elif m:
+        why = f"it contains {m.group()!r}"
+    elif name.startswith(".") or name in (".", ".."):
+        why = "it starts with '.'"
+    elif len(name) > MAX_NAME:
+        why = f"it has {len(name)} characters (at most {MAX_NAME})"
+    elif name != name.strip():
+        why = "it starts or ends with a space"
+    if why:
+        shown = repr(name) if len(name) <= 60 else repr(name[:50] + "…")
+        raise SpecError(
+            f"{shown} is not a safe file name: {why}; use letters, digits, '_', '-' and '.' (not first)", path=path
+        )
+    return name
+
+
+def sanitise_name(name: str) -> str:
+    """A safe file name made from any text (for names not chosen in a spec, e.g. a file's stem)."""
+    clean = _UNSAFE.sub("_", name).strip().lstrip(".")[:MAX_NAME] or "design"
+    return clean
+
+
+class Outputs:
+    """All-or-nothing writing of the output files of one run into one folder.
+
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> with Outputs(folder) as out:
+    ...     path = out.write_text("a.txt", "hello")
+    >>> sorted(p.name for p in folder.iterdir()), path.read_text()
+    (['a.txt'], 'hello')
+    """
+
+    def __init__(self, folder: str | Path, *, force: bool = False, where: str = "--out"):
+        self.folder = Path(folder)
+        self.force = force
+        self.where = where
+        self._staged: list[tuple[Path, Path]] = []
+
+    # -- checks before any work ----------------------------------------------------
+    def prepare(self, names: list[str]) -> None:
+        """Create the folder and refuse at once if any of ``names`` exists (unless ``force``)."""
+        folder = self.folder
+        text = str(folder)
+        if "\x00" in text:
+            raise SpecError(f"the output folder name {text!r} contains a NUL character", path=self.where)
+        try:
+            if folder.exists() and not folder.is_dir():
+                raise SpecError(f"{folder} exists and is not a folder", path=self.where)
+            folder.mkdir(parents=True, exist_ok=True)
+        except SpecError:
+            raise
+        except OSError as exc:
+            raise SpecError(f"cannot create the output folder {_short(text)}: {exc.strerror}", path=self.where) from None
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise SpecError(f"the output folder {folder} is not writable", path=self.where)
+        self.refuse_existing([folder / n for n in names])
+
+    def refuse_existing(self, paths: list[Path]) -> None:
+        if self.force:
+            return
+        existing = [p for p in paths if os.path.lexists(p)]
+        if existing:
+            shown = ", ".join(str(p) for p in existing[:3]) + (" …" if len(existing) > 3 else "")
+            raise SpecError(
+                f"{shown} already exist{'s' if len(existing) == 1 else ''}; "
+                "pass --force to overwrite, or choose another --out", path=self.where
+            )
+
+    # -- staged writes ---------------------------------------------------------------
+    def _temp(self, target: Path) -> Path:
+        return target.with_name(f".{target.name}.{os.getpid()}.part")
+
+    def write_with(self, name: str | Path, writer: Callable[[Path], Any]) -> Path:
+        """Stage a file: ``writer(temp_path)`` writes it; it appears under ``name`` at commit."""
+        target = Path(name) if Path(name).is_absolute() else self.folder / name
+        temp = self._temp(target)
+        self._staged.append((temp, target))
+        try:
+            writer(temp)
+        except OSError as exc:
+            raise SpecError(f"cannot write {target}: {exc.strerror}", path=self.where) from None
+        return target
+
+    def write_text(self, name: str | Path, text: str) -> Path:
+        return self.write_with(name, lambda p: p.write_text(text, encoding="utf-8"))
+
+    def commit(self) -> list[Path]:
+        """Rename every staged file to its name (refusing to replace one unless ``force``)."""
+        self.refuse_existing([t for _, t in self._staged])
+        done = []
+        for temp, target in self._staged:
+            os.replace(temp, target)
+            done.append(target)
+        self._staged = []
+        return done
+
+    def discard(self) -> None:
+        for temp, _ in self._staged:
+            try:
+                temp.unlink()
+            except OSError:
+                pass
+        self._staged = []
+
+    def __enter__(self) -> Outputs:
+        return self
+
+    def __exit__(self, kind: Any, exc: Any, tb: Any) -> None:
+        if kind is None:
+            self.commit()
+        else:
+            self.discard()  # also on KeyboardInterrupt: nothing half-written remains
+
+
+def _short(text: str) -> str:
+    return repr(text) if len(text) <= 80 else repr(text[:60] + "…") + f" ({len(text)} characters)"
