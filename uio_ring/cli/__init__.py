@@ -2,11 +2,12 @@
 
 Each subcommand lives in its own module and registers itself through
 ``add_parser(subparsers)``; :func:`main` dispatches.  Exit codes: 0 success,
-1 a structural assumption fails, 2 bad input (arguments, text, spec).
-User errors print one message, no traceback (``--debug`` adds it, with the
-same exit code).  When the reader of standard output goes away (``uio-ring
-design spec.yaml | head``) the command stops quietly with exit code 141, as a
-process ended by SIGPIPE does in a shell.
+1 a structural assumption fails (or a certificate fails), 2 bad input
+(arguments, text, spec, output folder), 130 interrupted (Ctrl-C; nothing
+half-written remains).  User errors print one message, no traceback
+(``--debug`` adds it, with the same exit code).  When the reader of standard
+output goes away (``uio-ring design spec.yaml | head``) the command stops
+quietly with exit code 141, as a process ended by SIGPIPE does in a shell.
 """
 
 from __future__ import annotations
@@ -88,8 +89,16 @@ def _dispatch(argv: Sequence[str] | None) -> int:
         _report(exc, args.debug, f"uio-ring: {exc}")
         return 1
     except UioRingError as exc:
-        _report(exc, args.debug, f"uio-ring: error: {exc}")
+        _report(exc, args.debug, f"uio-ring: error: {_one_line(str(exc))}")
         return 2
+    except KeyboardInterrupt as exc:
+        _report(exc, args.debug, "uio-ring: interrupted")
+        return 130
+
+
+def _one_line(text: str, limit: int = 500) -> str:
+    text = " ".join(text.split("\n"))
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _report(exc: BaseException, debug: bool, message: str) -> None:

@@ -2,6 +2,15 @@
 
     $ uio-ring design examples/zheng2015.yaml
     $ uio-ring simulate examples/zheng2015.yaml --out results/
+
+Files: everything is written under the output folder (``--out``, else the
+spec's ``output.directory`` inside the spec's folder, else
+``uio-ring-out/<name>``), under names made from the spec's safe ``name``.
+Existing files are not replaced unless ``--force`` (checked before any work).
+All files of a run are written under temporary names and renamed at the end,
+so a failed or interrupted run leaves none.  A design whose certificate fails
+is reported (exit 1) and **not written**; a simulation that produces
+non-finite values is an error (exit 2) and writes nothing.
 """
 
 from __future__ import annotations
@@ -63,15 +72,45 @@ def add_parser(sub: Any) -> None:
 def _output_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="DIR", help="output directory (default: the spec's output.directory, else ./uio-ring-out/<spec name>)")
     p.add_argument("--quiet", action="store_true", help="print only the summary")
+    p.add_argument("--force", action="store_true", help="overwrite existing output files (refused otherwise)")
 
 
 def _out_dir(args: argparse.Namespace, spec: Any) -> Path:
-    if args.out:
+    if args.out is not None:
         return Path(args.out)
     if spec.output.directory:
         base = Path(spec.source).parent if spec.source else Path(".")
         return base / spec.output.directory
     return Path("uio-ring-out") / (spec.name or "design")
+
+
+def _outputs(args: argparse.Namespace, spec: Any, suffixes: list[str], extra: list[Path] = ()) -> tuple[Any, Path]:  # type: ignore[assignment]
+    """The output folder checked before any work: (Outputs, stem)."""
+    from uio_ring.errors import SpecError
+    from uio_ring.spec.files import Outputs
+
+    if args.out is not None and not str(args.out).strip():
+        raise SpecError("an empty folder name", path="--out")
+    where = "--out" if args.out is not None else ("output.directory" if spec.output.directory else None)
+    out = Outputs(_out_dir(args, spec), force=args.force, where=where)
+    stem = out.folder / (spec.name or "design")
+    out.prepare([stem.with_suffix(s) for s in suffixes] + list(extra))
+    return out, stem
+
+
+def _latex_target(args: argparse.Namespace) -> Path | None:
+    from uio_ring.errors import SpecError
+    from uio_ring.spec.files import Outputs
+
+    if not args.latex:
+        return None
+    path = Path(args.latex)
+    if "\x00" in args.latex:
+        raise SpecError("the file name contains a NUL character", path="--latex")
+    if path.is_dir():
+        raise SpecError(f"{args.latex} is a folder; give a file name such as design.tex", path="--latex")
+    Outputs(path.parent, force=args.force, where="--latex").prepare([path])
+    return path
 
 
 def _rule(title: str) -> str:
@@ -171,51 +210,64 @@ def _performance_line(design: Any, spec: Any) -> str:
 
 
 def _run_design(args: argparse.Namespace) -> int:
-    from uio_ring.spec import load_spec, save_design
+    from uio_ring.spec import load_spec
+    from uio_ring.spec.designs import design_texts
 
     spec = load_spec(args.spec)
+    formats = [f for f in (spec.output.formats or ("json", "yaml")) if f in ("json", "yaml", "latex")]
+    suffixes = {"json": ".json", "yaml": ".yaml", "latex": ".tex"}
+    latex = _latex_target(args)
+    out, stem = _outputs(args, spec, [suffixes[f] for f in formats])  # before any work
     design, method, skipped = _design(spec)
     cert = design.certificate()
     _print_design(spec, design, method, skipped, cert, args.quiet)
-    formats = [f for f in (spec.output.formats or ("json", "yaml")) if f in ("json", "yaml", "latex")]
-    paths = save_design(design, _out_dir(args, spec) / (spec.name or "design"), formats=formats)
-    if args.latex:
-        Path(args.latex).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.latex).write_text(design.to_latex() + "\n", encoding="utf-8")
-        paths.append(Path(args.latex))
+    if not cert.ok:
+        print("certificate FAILED: no design files written", file=sys.stderr)
+        return 1
+    with out:
+        paths = [out.write_text(stem.with_suffix(suffix), text) for suffix, text in design_texts(design, formats).items()]
+        if latex is not None:
+            paths.append(out.write_text(latex, design.to_latex() + "\n"))
     print("wrote " + ", ".join(str(p) for p in paths))
-    return 0 if cert.ok else 1
+    return 0
 
 
 def _run_simulate(args: argparse.Namespace) -> int:
     import numpy as np
 
     from uio_ring.errors import SpecError
-    from uio_ring.spec import load_spec, save_design
+    from uio_ring.spec import load_spec
+    from uio_ring.spec.designs import design_texts
 
     spec = load_spec(args.spec)
     if spec.simulate is None:
         raise SpecError("the spec has no 'simulate' section (t_final, dt, inputs)", path="simulate")
+    formats = _simulation_formats(spec.output.formats, npz=args.npz, plot=not args.no_plot)
+    suffixes = {"json": ".json", "yaml": ".yaml", "latex": ".tex", "csv": ".csv", "npz": ".npz", "png": ".png"}
+    out, stem = _outputs(args, spec, [suffixes[f] for f in sorted(formats)])  # before any work
     design, method, skipped = _design(spec)
     cert = design.certificate()
     _print_design(spec, design, method, skipped, cert, args.quiet)
+    if not cert.ok:
+        print("certificate FAILED: not simulated, no files written", file=sys.stderr)
+        return 1
     sim = spec.simulate
     result = _simulate(design, spec, args.progress)
-    out = _out_dir(args, spec)
-    out.mkdir(parents=True, exist_ok=True)
-    stem = out / (spec.name or "simulation")
-    formats = _simulation_formats(spec.output.formats, npz=args.npz, plot=not args.no_plot)
-    design_formats = [f for f in ("json", "yaml", "latex") if f in formats]
-    paths = save_design(design, stem, formats=design_formats) if design_formats else []
-    for kind in ("csv", "npz"):
-        if kind in formats:
-            paths.append(_write_signals(result, stem, npz=kind == "npz"))
-    if "png" in formats:
-        paths.append(_write_plot(result, stem, spec.name))
+    _check_finite(result)
     t = result.t
     settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2
     err = np.max(np.abs(result.error), axis=0)
     after = err[t >= settle]
+    design_formats = [f for f in ("json", "yaml", "latex") if f in formats]
+    with out:
+        paths = [out.write_text(stem.with_suffix(suffix), text)
+                 for suffix, text in design_texts(design, design_formats).items()]
+        for kind in ("csv", "npz"):
+            if kind in formats:
+                paths.append(out.write_with(stem.with_suffix("." + kind),
+                                            lambda p, kind=kind: _write_signals(result, p, npz=kind == "npz")))
+        if "png" in formats:
+            paths.append(out.write_with(stem.with_suffix(".png"), lambda p: _write_plot(result, p, spec.name)))
     line = (f"{spec.name}: simulated {t[-1]:g} s with dt = {float(sim.dt):g} ({len(t) - 1} steps); "
             f"final error {err[-1]:.3g}, max error after t = {settle:g} s: {after.max() if after.size else 0.0:.3g}")
     if result.w_hat is not None:
@@ -223,7 +275,24 @@ def _run_simulate(args: argparse.Namespace) -> int:
         line += f"; max |w − ŵ| after t = {settle:g} s: {w_err.max() if w_err.size else 0.0:.3g}"
     print(line)
     print("wrote " + ", ".join(str(p) for p in paths))
-    return 0 if cert.ok else 1
+    return 0
+
+
+def _check_finite(result: Any) -> None:
+    """A simulation with NaN or ±inf anywhere is an error, never a success (exit 2, nothing written)."""
+    import numpy as np
+
+    from uio_ring.errors import SpecError
+
+    for label, values in (("state", result.x), ("output", result.y), ("estimate", result.x_hat), ("error", result.error)):
+        finite = np.isfinite(values)
+        if not finite.all():
+            k = int(np.argmax(~finite.all(axis=0)))
+            raise SpecError(
+                f"the simulation overflowed: the {label} is not finite from t = {float(result.t[k]):g} s on; "
+                "reduce the inputs, noise or initial values, or the step dt (nothing written)",
+                path="simulate",
+            )
 
 
 def _simulation_formats(requested: Any, *, npz: bool, plot: bool) -> set[str]:
@@ -259,7 +328,7 @@ def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
     )
 
 
-def _write_signals(result: Any, stem: Path, *, npz: bool) -> Path:
+def _write_signals(result: Any, path: Path, *, npz: bool) -> None:
     """Every signal of the result (t, x, y, w, u, x̂, error, ŵ) as CSV columns ``kind.name``
     (unique by construction), or as NPZ arrays with the names alongside."""
     import csv
@@ -268,33 +337,31 @@ def _write_signals(result: Any, stem: Path, *, npz: bool) -> Path:
 
     columns = result.columns()
     if npz:
-        path = stem.with_suffix(".npz")
         arrays = {k: getattr(result, k) for k in ("t", "x", "y", "w", "u", "x_hat", "error", "w_hat")
                   if getattr(result, k) is not None}
-        np.savez_compressed(path, **arrays, columns=np.array(list(columns)))
-        return path
-    path = stem.with_suffix(".csv")
+        with open(path, "wb") as fh:  # a file object: savez would append '.npz' to the temporary name
+            np.savez_compressed(fh, **arrays, columns=np.array(list(columns)))
+        return
     data = np.column_stack(list(columns.values()))
     with open(path, "w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(list(columns))
         writer.writerows([f"{v:.10g}" for v in row] for row in data)
-    return path
 
 
-def _write_plot(result: Any, stem: Path, title: str) -> Path:
+def _write_plot(result: Any, path: Path, title: str) -> None:
     from uio_ring.errors import require
 
     matplotlib = require("matplotlib", extra="plot")
     matplotlib.use("Agg")
     fig = result.plot(title=title)
     fig = getattr(fig, "figure", fig)
-    path = stem.with_suffix(".png")
-    fig.savefig(path, dpi=110, bbox_inches="tight")
     import matplotlib.pyplot as plt
 
-    plt.close(fig)
-    return path
+    try:
+        fig.savefig(path, dpi=110, bbox_inches="tight", format="png")
+    finally:
+        plt.close(fig)
 
 
 def _run_schema(args: argparse.Namespace) -> int:

@@ -4,6 +4,15 @@
 hold every field of the design dataclass (matrices as lists of polynomial
 strings, with their shapes so that empty matrices keep them).
 
+A design file is not trusted.  :func:`load_design` reads at most
+``MAX_DESIGN_BYTES`` from a regular file, bounds every number and matrix
+before building it, checks that every field has its declared type (a
+matrix where a matrix is expected, …), and then **re-runs the certificate**:
+a file whose matrices were edited (or whose shapes no longer fit) is refused
+with the first failing check.  ``verify=False`` skips only the certificate.
+:func:`save_design` writes each file under a temporary name and renames it,
+so a file is never half-written.
+
 >>> import tempfile, pathlib
 >>> from uio_ring import DelaySystem, design_zheng_bejarano
 >>> d = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None))
@@ -19,14 +28,27 @@ import dataclasses
 import json
 from collections.abc import Sequence
 from fractions import Fraction
+from os import PathLike
 from pathlib import Path
 from typing import Any
 
 from uio_ring.errors import SpecError, UioRingError
 
-__all__ = ["design_to_data", "design_from_data", "save_design", "load_design", "load_observer_model"]
+__all__ = [
+    "design_to_data",
+    "design_from_data",
+    "design_texts",
+    "save_design",
+    "load_design",
+    "load_observer_model",
+    "MAX_DESIGN_BYTES",
+]
 
 FORMAT_VERSION = 1
+#: Largest design file read (bytes).
+MAX_DESIGN_BYTES = 50_000_000
+#: Largest matrix dimension accepted in a design file.
+MAX_DESIGN_DIMENSION = 4096
 
 
 def _design_classes() -> dict[str, type]:
@@ -83,6 +105,8 @@ def load_observer_model(path: str | Path) -> Any:
     :meth:`~uio_ring.numeric.model.ObserverModel.to_control`."""
     from uio_ring.numeric.model import ObserverModel
 
+    if not isinstance(path, (str, PathLike)):
+        raise SpecError(f"expected a file name, got {type(path).__name__}")
     data = _read_design_file(Path(path))
     if not isinstance(data, dict) or "numeric_derived" not in data:
         raise SpecError("the design file has no 'numeric_derived' section (written by an older uio_ring?)",
@@ -101,7 +125,14 @@ def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
     try:
         if "$matrix" in value:
             rows, cols = value["shape"]
-            return PolyMatrix(value["$matrix"], shape=(rows, cols)) if rows and cols else PolyMatrix.zeros(rows, cols)
+            if not all(isinstance(k, int) and not isinstance(k, bool) and 0 <= k <= MAX_DESIGN_DIMENSION for k in (rows, cols)):
+                raise SpecError(f"shape {value['shape']!r} is not two whole numbers in 0 … {MAX_DESIGN_DIMENSION}", path=where)
+            entries = value["$matrix"]
+            if not isinstance(entries, list) or not all(isinstance(r, list) for r in entries):
+                raise SpecError("a matrix is a list of rows", path=where)
+            if any(not isinstance(x, (str, int)) or isinstance(x, bool) for r in entries for x in r):
+                raise SpecError("matrix entries are polynomial strings such as '1/2*d + 1'", path=where)
+            return PolyMatrix(entries, shape=(rows, cols)) if rows and cols else PolyMatrix.zeros(rows, cols)
         if "$system" in value:
             data = dict(value["$system"])
             for k, (r, c) in value["shapes"].items():
@@ -109,7 +140,9 @@ def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
                     data[k] = PolyMatrix.zeros(r, c)
             return DelaySystem.from_dict(data)
         if "$q" in value:
-            return Fraction(value["$q"])
+            from uio_ring.ring.parse import decimal_fraction
+
+            return decimal_fraction(str(value["$q"]), where)
         if "$tuple" in value:
             return tuple(_decode(v, f"{where}[{i}]", helpers) for i, v in enumerate(value["$tuple"]))
         if "$dict" in value:
@@ -121,6 +154,8 @@ def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
             return cls(**{k: _decode(v, f"{where}.{k}", helpers) for k, v in value["fields"].items()})
     except SpecError:
         raise
+    except UioRingError as exc:
+        raise SpecError(str(exc), path=where) from None
     except (KeyError, TypeError, ValueError, ZeroDivisionError) as exc:
         raise SpecError(f"malformed value ({exc})", path=where) from None
     raise SpecError(f"unknown tag in {sorted(value)}", path=where)
@@ -139,6 +174,14 @@ def design_from_data(data: Any) -> Any:
     module = vars(sys.modules[cls.__module__])
     helpers = {name: obj for name, obj in module.items() if isinstance(obj, type) and dataclasses.is_dataclass(obj)}
     fields = data.get("fields") or {}
+    if not isinstance(fields, dict):
+        raise SpecError("'fields' is not a mapping", path="fields")
+    try:
+        import typing
+
+        hints = typing.get_type_hints(cls)
+    except Exception:  # noqa: BLE001 - annotations that cannot be resolved are not checked
+        hints = {}
     kwargs = {}
     for f in dataclasses.fields(cls):
         if not f.compare:
@@ -146,48 +189,153 @@ def design_from_data(data: Any) -> Any:
         if f.name not in fields:
             raise SpecError(f"the design file has no field {f.name!r}", path="fields")
         kwargs[f.name] = _decode(fields[f.name], f"fields.{f.name}", helpers)
-    return cls(**kwargs)
+        _check_type(kwargs[f.name], hints.get(f.name, Any), f"fields.{f.name}")
+    try:
+        return cls(**kwargs)
+    except SpecError:
+        raise
+    except (UioRingError, TypeError, ValueError) as exc:
+        raise SpecError(f"the fields do not make a {cls.__name__}: {exc}", path="fields") from None
 
 
-def save_design(design: Any, stem: str | Path, *, formats: Sequence[str] = ("json", "yaml")) -> list[Path]:
-    """Write ``stem.json`` / ``stem.yaml`` (and ``stem.tex`` for ``"latex"``); returns the paths."""
+def _check_type(value: Any, hint: Any, where: str) -> None:
+    """``value`` has the declared type ``hint`` (PolyMatrix, int, Fraction, tuples, unions, …)."""
+    import types
+    import typing
+
+    from uio_ring.ring.matrix import PolyMatrix
+
+    origin = typing.get_origin(hint)
+    args = typing.get_args(hint)
+    if hint is Any or isinstance(hint, (str, typing.TypeVar)):
+        return
+    if origin in (typing.Union, types.UnionType):
+        for h in args:
+            try:
+                _check_type(value, h, where)
+                return
+            except SpecError:
+                continue
+        raise SpecError(f"{_kind(value)} does not have the type {_hint_name(hint)}", path=where)
+    if hint is type(None):
+        ok = value is None
+    elif hint is Fraction:
+        ok = isinstance(value, (Fraction, int)) and not isinstance(value, bool)
+    elif hint is int:
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    elif origin is tuple:
+        ok = isinstance(value, tuple)
+        if ok and args and args[-1] is Ellipsis:
+            for i, v in enumerate(value):
+                _check_type(v, args[0], f"{where}[{i}]")
+        elif ok and args:
+            ok = len(value) == len(args)
+            for i, (v, h) in enumerate(zip(value, args, strict=False)):
+                _check_type(v, h, f"{where}[{i}]")
+    elif origin is dict:
+        ok = isinstance(value, dict)
+        if ok and args:
+            for k, v in value.items():
+                _check_type(k, args[0], where)
+                _check_type(v, args[1], where)
+    elif isinstance(hint, type):
+        ok = isinstance(value, hint)
+    else:
+        return
+    if not ok:
+        expected = "a matrix" if hint is PolyMatrix else _hint_name(hint)
+        raise SpecError(f"{_kind(value)} where {expected} is expected", path=where)
+
+
+def _hint_name(hint: Any) -> str:
+    return getattr(hint, "__name__", None) or str(hint).replace("typing.", "")
+
+
+def _kind(value: Any) -> str:
+    if isinstance(value, tuple):
+        return f"a list of {len(value)}"
+    return f"{type(value).__name__} {str(value)[:40]!r}" if not hasattr(value, "shape") else f"a {value.shape[0]}×{value.shape[1]} matrix"
+
+
+def design_texts(design: Any, formats: Sequence[str] = ("json", "yaml")) -> dict[str, str]:
+    """The text of each design file by suffix (``".json"``, ``".yaml"``, ``".tex"``)."""
     from uio_ring.spec.yaml_io import dump_yaml
 
-    stem = Path(stem)
-    stem.parent.mkdir(parents=True, exist_ok=True)
     data = design_to_data(design)
-    out = []
+    out = {}
     for fmt in formats:
         if fmt == "json":
-            p = stem.with_suffix(".json")
-            p.write_text(json.dumps(data, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+            out[".json"] = json.dumps(data, indent=1, ensure_ascii=False) + "\n"
         elif fmt == "yaml":
-            p = stem.with_suffix(".yaml")
-            p.write_text(dump_yaml(data), encoding="utf-8")
+            out[".yaml"] = dump_yaml(data)
         elif fmt == "latex":
-            p = stem.with_suffix(".tex")
-            p.write_text(design.to_latex() + "\n", encoding="utf-8")
-        else:
-            continue
-        out.append(p)
+            out[".tex"] = design.to_latex() + "\n"
     return out
 
 
+def save_design(design: Any, stem: str | Path, *, formats: Sequence[str] = ("json", "yaml")) -> list[Path]:
+    """Write ``stem.json`` / ``stem.yaml`` (and ``stem.tex`` for ``"latex"``); returns the paths.
+
+    Each file is written under a temporary name and renamed when all are
+    written, so none is ever half-written.  Existing files are replaced (the
+    command line refuses that without ``--force``).
+    """
+    from uio_ring.spec.files import Outputs
+
+    stem = Path(stem)
+    texts = design_texts(design, formats)
+    with Outputs(stem.parent, force=True) as out:
+        for suffix, text in texts.items():
+            out.write_text(stem.with_suffix(suffix), text)
+    return [stem.with_suffix(suffix) for suffix in texts]
+
+
+def _bounded_int(text: str) -> int:
+    from uio_ring.ring.parse import MAX_NUMBER_DIGITS
+
+    if len(text.lstrip("-")) > MAX_NUMBER_DIGITS:
+        raise SpecError(f"an integer of {len(text)} digits exceeds {MAX_NUMBER_DIGITS} digits")
+    return int(text)
+
+
 def _read_design_file(p: Path) -> Any:
+    """Plain data of a design file: a regular file of at most ``MAX_DESIGN_BYTES``, integers
+    bounded, nesting bounded (floats appear only in the derived numeric section)."""
+    from uio_ring.spec.files import read_text_limited
     from uio_ring.spec.yaml_io import load_yaml_text
 
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise SpecError(f"cannot read {p}: {exc.strerror}") from None
+    text = read_text_limited(p, max_bytes=MAX_DESIGN_BYTES, what="design")
     if p.suffix == ".json":
         try:
-            return json.loads(text)
+            return json.loads(text, parse_int=_bounded_int)
         except json.JSONDecodeError as exc:
             raise SpecError(f"{p}: not valid JSON ({exc})") from None
-    return load_yaml_text(text)
+        except RecursionError:
+            raise SpecError(f"{p}: nested too deeply") from None
+    return load_yaml_text(text, max_bytes=MAX_DESIGN_BYTES)
 
 
-def load_design(path: str | Path) -> Any:
-    """Load a design written by :func:`save_design` (``.json`` or ``.yaml``)."""
-    return design_from_data(_read_design_file(Path(path)))
+def load_design(path: str | Path, *, verify: bool = True) -> Any:
+    """Load a design written by :func:`save_design` (``.json`` or ``.yaml``).
+
+    The file is validated (types, shapes, bounded numbers) and, unless
+    ``verify=False``, its certificate is re-run: an edited or corrupted design
+    raises :class:`~uio_ring.errors.SpecError` naming the failing check.
+    """
+    if not isinstance(path, (str, PathLike)):
+        raise SpecError(f"expected a file name, got {type(path).__name__}")
+    p = Path(path)
+    design = design_from_data(_read_design_file(p))
+    if verify:
+        try:
+            cert = design.certificate()
+        except UioRingError as exc:
+            raise SpecError(f"{p}: the design's matrices do not fit together ({exc})") from None
+        if not cert.ok:
+            failed = cert.failed
+            what = f" ({failed[0].name})" if failed else ""
+            raise SpecError(
+                f"{p}: the design fails its certificate{what}; the file was edited or corrupted "
+                "(load_design(..., verify=False) loads it anyway)"
+            )
+    return design

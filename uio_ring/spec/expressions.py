@@ -5,6 +5,11 @@ functions ``sin cos tan exp log sqrt abs sign tanh sinh cosh atan``, plus
 ``step(t - a)`` (Heaviside, 1 for arguments ≥ 0).  The result is a function of a
 NumPy array of times.  Numeric side only (floats are fine here).
 
+Bounded: at most ``MAX_LENGTH`` characters, parentheses, function calls and
+powers nested at most ``MAX_NESTING`` deep, any number of unary signs (read
+iteratively), numbers that fit a float64.  Evaluation runs a flat program on
+a stack, so a long chain ``t + t + … + t`` cannot exhaust Python's recursion.
+
 >>> import numpy as np
 >>> f = parse_signal("-10*sin(100*t)")
 >>> float(f(np.array([np.pi / 200]))[0])
@@ -24,10 +29,12 @@ from typing import Any
 
 from uio_ring.errors import SpecError
 
-__all__ = ["parse_signal", "FUNCTIONS", "MAX_LENGTH"]
+__all__ = ["parse_signal", "FUNCTIONS", "MAX_LENGTH", "MAX_NESTING"]
 
 #: Longest expression accepted (characters).
 MAX_LENGTH = 2000
+#: Deepest nesting of parentheses, calls and powers accepted.
+MAX_NESTING = 50
 
 FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "sqrt", "abs", "sign", "tanh", "sinh", "cosh", "atan", "step")
 _CONSTANTS = {"pi": math.pi, "e": math.e}
@@ -49,15 +56,25 @@ class _Parser:
             if kind == "ws":
                 continue
             if kind == "bad":
-                raise SpecError(f"cannot parse {text!r} at column {m.start() + 1}: unexpected {m.group()!r}")
+                raise SpecError(f"cannot parse {_short(text)} at column {m.start() + 1}: unexpected {m.group()!r}")
             self.tokens.append((kind, m.group(), m.start()))
         self.tokens.append(("end", "", len(text)))
         self.i = 0
+        self.depth = 0
+
+    def enter(self) -> None:
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            pos = self.peek()[2]
+            raise SpecError(
+                f"cannot parse {_short(self.text)} at column {pos + 1}: nested deeper than {MAX_NESTING} "
+                "(parentheses, calls and powers)"
+            )
 
     def error(self, expected: str) -> SpecError:
         kind, value, pos = self.tokens[self.i]
         found = "the end of the text" if kind == "end" else repr(value)
-        return SpecError(f"cannot parse {self.text!r} at column {pos + 1}: expected {expected} but found {found}")
+        return SpecError(f"cannot parse {_short(self.text)} at column {pos + 1}: expected {expected} but found {found}")
 
     def peek(self) -> tuple[str, str, int]:
         return self.tokens[self.i]
@@ -85,25 +102,34 @@ class _Parser:
         return node
 
     def unary(self) -> Node:
-        if self.peek()[0] == "op" and self.peek()[1] in "+-":
-            op = self.peek()[1]
+        negative = False
+        while self.peek()[0] == "op" and self.peek()[1] in "+-":  # iterative: any number of signs
+            negative ^= self.peek()[1] == "-"
             self.i += 1
-            inner = self.unary()
-            return ("neg", inner) if op == "-" else inner
-        return self.power()
+        inner = self.power()
+        return ("neg", inner) if negative else inner
 
     def power(self) -> Node:
         base = self.atom()
         if self.peek()[0] == "pow":
             self.i += 1
-            return ("**", base, self.unary())
+            self.enter()
+            exponent = self.unary()
+            self.depth -= 1
+            return ("**", base, exponent)
         return base
 
     def atom(self) -> Node:
         kind, value, pos = self.peek()
         if kind == "num":
             self.i += 1
-            return ("num", float(value))
+            number = float(value)
+            if not math.isfinite(number):
+                raise SpecError(
+                    f"cannot parse {_short(self.text)} at column {pos + 1}: the number {_short(value)} "
+                    "is too large for a float64"
+                )
+            return ("num", number)
         if kind == "name":
             self.i += 1
             if value == "t":
@@ -113,44 +139,77 @@ class _Parser:
             if value in FUNCTIONS:
                 if not self.take("("):
                     raise self.error(f"'(' after {value}")
+                self.enter()
                 arg = self.expr()
+                self.depth -= 1
                 if not self.take(")"):
                     raise self.error("')'")
                 return ("call", value, arg)
             raise SpecError(
-                f"cannot parse {self.text!r} at column {pos + 1}: unknown name {value!r}; "
+                f"cannot parse {_short(self.text)} at column {pos + 1}: unknown name {_short(value)}; "
                 f"use t, pi, e or one of {', '.join(FUNCTIONS)}"
             )
         if self.take("("):
+            self.enter()
             node = self.expr()
+            self.depth -= 1
             if not self.take(")"):
                 raise self.error("')'")
             return node
         raise self.error("a number, 't', a function or '('")
 
 
+def _short(text: str) -> str:
+    return repr(text) if len(text) <= 60 else repr(text[:40] + "…") + f" ({len(text)} characters)"
+
+
+def _program(node: Node) -> list[Node]:
+    """The tree as a postfix program, built without recursion."""
+    out: list[Node] = []
+    stack: list[tuple[Node, bool]] = [(node, False)]
+    while stack:
+        item, expanded = stack.pop()
+        kind = item[0]
+        if kind in ("num", "t"):
+            out.append(item)
+        elif expanded:
+            out.append((kind, item[1]) if kind == "call" else (kind,))
+        else:
+            stack.append((item, True))
+            children = [item[2]] if kind == "call" else list(item[1:])
+            for child in reversed(children):
+                stack.append((child, False))
+    return out
+
+
 def _compile(node: Node) -> Callable[[Any], Any]:
     import numpy as np
 
-    kind = node[0]
-    if kind == "num":
-        value = node[1]
-        return lambda t: np.full_like(t, value, dtype=float)
-    if kind == "t":
-        return lambda t: np.asarray(t, dtype=float)
-    if kind == "neg":
-        f = _compile(node[1])
-        return lambda t: -f(t)
-    if kind == "call":
-        name, f = node[1], _compile(node[2])
-        if name == "step":
-            return lambda t: np.where(f(t) >= 0, 1.0, 0.0)
-        fn = {"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name)
-        return lambda t: fn(f(t))
-    a, b = _compile(node[1]), _compile(node[2])
-    ops = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power}
-    op = ops[kind]
-    return lambda t: op(a(t), b(t))
+    program = _program(node)
+    binary = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power}
+    functions = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None)) for name in FUNCTIONS}
+
+    def run(t: Any) -> Any:
+        t = np.asarray(t, dtype=float)
+        stack: list[Any] = []
+        with np.errstate(all="ignore"):  # non-finite values are caught where the simulation is checked
+            for op in program:
+                kind = op[0]
+                if kind == "num":
+                    stack.append(np.full_like(t, op[1], dtype=float))
+                elif kind == "t":
+                    stack.append(t)
+                elif kind == "neg":
+                    stack.append(-stack.pop())
+                elif kind == "call":
+                    x = stack.pop()
+                    stack.append(np.where(x >= 0, 1.0, 0.0) if op[1] == "step" else functions[op[1]](x))
+                else:
+                    b = stack.pop()
+                    stack.append(binary[kind](stack.pop(), b))
+        return stack[0]
+
+    return run
 
 
 def parse_signal(text: Any) -> Callable[[Any], Any]:

@@ -116,35 +116,47 @@ class Outputs:
     >>> import tempfile
     >>> folder = Path(tempfile.mkdtemp())
     >>> with Outputs(folder) as out:
-    ...     path = out.write_text("a.txt", "hello")
+    ...     path = out.write_text(folder / "a.txt", "hello")
     >>> sorted(p.name for p in folder.iterdir()), path.read_text()
     (['a.txt'], 'hello')
     """
 
-    def __init__(self, folder: str | Path, *, force: bool = False, where: str = "--out"):
+    def __init__(self, folder: str | Path, *, force: bool = False, where: str | None = None):
         self.folder = Path(folder)
         self.force = force
         self.where = where
         self._staged: list[tuple[Path, Path]] = []
 
     # -- checks before any work ----------------------------------------------------
-    def prepare(self, names: list[str]) -> None:
-        """Create the folder and refuse at once if any of ``names`` exists (unless ``force``)."""
+    def prepare(self, targets: list[Path]) -> None:
+        """Check, before any work, that the folder can be made and no target exists (unless ``force``).
+
+        Nothing is created here: the folder is made when the first file is written.
+        """
         folder = self.folder
         text = str(folder)
         if "\x00" in text:
-            raise SpecError(f"the output folder name {text!r} contains a NUL character", path=self.where)
+            raise SpecError(f"the output folder name {_short(text)} contains a NUL character", path=self.where)
         try:
             if folder.exists() and not folder.is_dir():
-                raise SpecError(f"{folder} exists and is not a folder", path=self.where)
-            folder.mkdir(parents=True, exist_ok=True)
+                raise SpecError(f"{_short(text)} exists and is not a folder", path=self.where)
+            existing = folder
+            while not existing.exists():
+                if existing.parent == existing:
+                    break
+                existing = existing.parent
+            if existing.exists() and not existing.is_dir():
+                raise SpecError(f"{_short(str(existing))} is a file, so {_short(text)} cannot be a folder", path=self.where)
+            for part in folder.parts:
+                if len(part.encode("utf-8", "replace")) > 255:
+                    raise SpecError(f"a folder name of {len(part)} characters is too long (at most 255)", path=self.where)
+            if existing.exists() and not os.access(existing, os.W_OK | os.X_OK):
+                raise SpecError(f"cannot write into {_short(str(existing))}: permission denied", path=self.where)
         except SpecError:
             raise
         except OSError as exc:
-            raise SpecError(f"cannot create the output folder {_short(text)}: {exc.strerror}", path=self.where) from None
-        if not os.access(folder, os.W_OK | os.X_OK):
-            raise SpecError(f"the output folder {folder} is not writable", path=self.where)
-        self.refuse_existing([folder / n for n in names])
+            raise SpecError(f"cannot use the output folder {_short(text)}: {exc.strerror}", path=self.where) from None
+        self.refuse_existing(targets)
 
     def refuse_existing(self, paths: list[Path]) -> None:
         if self.force:
@@ -154,19 +166,21 @@ class Outputs:
             shown = ", ".join(str(p) for p in existing[:3]) + (" …" if len(existing) > 3 else "")
             raise SpecError(
                 f"{shown} already exist{'s' if len(existing) == 1 else ''}; "
-                "pass --force to overwrite, or choose another --out", path=self.where
+                "pass --force to overwrite, or choose another --out",
+                path=self.where,
             )
 
     # -- staged writes ---------------------------------------------------------------
     def _temp(self, target: Path) -> Path:
         return target.with_name(f".{target.name}.{os.getpid()}.part")
 
-    def write_with(self, name: str | Path, writer: Callable[[Path], Any]) -> Path:
-        """Stage a file: ``writer(temp_path)`` writes it; it appears under ``name`` at commit."""
-        target = Path(name) if Path(name).is_absolute() else self.folder / name
+    def write_with(self, target: str | Path, writer: Callable[[Path], Any]) -> Path:
+        """Stage ``target``: ``writer(temp_path)`` writes it; it gets its name at :meth:`commit`."""
+        target = Path(target)
         temp = self._temp(target)
-        self._staged.append((temp, target))
         try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            self._staged.append((temp, target))
             writer(temp)
         except OSError as exc:
             raise SpecError(f"cannot write {target}: {exc.strerror}", path=self.where) from None
@@ -179,16 +193,20 @@ class Outputs:
         """Rename every staged file to its name (refusing to replace one unless ``force``)."""
         self.refuse_existing([t for _, t in self._staged])
         done = []
-        for temp, target in self._staged:
-            os.replace(temp, target)
-            done.append(target)
-        self._staged = []
+        try:
+            for temp, target in self._staged:
+                os.replace(temp, target)
+                done.append(target)
+        except OSError as exc:
+            raise SpecError(f"cannot write {target}: {exc.strerror}", path=self.where) from None
+        finally:
+            self.discard()
         return done
 
     def discard(self) -> None:
         for temp, _ in self._staged:
             try:
-                temp.unlink()
+                temp.unlink(missing_ok=True)
             except OSError:
                 pass
         self._staged = []
