@@ -235,7 +235,7 @@ def _run_design(args: argparse.Namespace) -> int:
 def _run_simulate(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from uio_ring.errors import SpecError
+    from uio_ring.errors import NotObservableError, SpecError, UioRingError
     from uio_ring.spec import load_spec
     from uio_ring.spec.designs import design_texts
 
@@ -252,7 +252,13 @@ def _run_simulate(args: argparse.Namespace) -> int:
         print("certificate FAILED: not simulated, no files written", file=sys.stderr)
         return 1
     sim = spec.simulate
-    result = _simulate(design, spec, args.progress)
+    try:
+        with np.errstate(all="ignore"):  # overflow is reported once, by _check_finite below
+            result = _simulate(design, spec, args.progress)
+    except (SpecError, NotObservableError):
+        raise
+    except UioRingError as exc:  # the simulation refused its input: name the spec section
+        raise SpecError(str(exc), path="simulate") from None
     _check_finite(result)
     t = result.t
     settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2

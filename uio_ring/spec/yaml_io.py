@@ -92,19 +92,33 @@ class _ExactLoader(yaml.SafeLoader):
 
     def compose_mapping_node(self, anchor: Any) -> Any:
         node = super().compose_mapping_node(anchor)
-        seen: dict[str, int] = {}
+        seen: dict[Any, int] = {}
         for key, _ in node.value:
             if not isinstance(key, yaml.ScalarNode) or key.tag == _MERGE:
                 continue
             text = str(key.value).strip()
             line = key.start_mark.line + 1
-            if text in seen:
+            ident = _key_identity(text)
+            if ident in seen:
                 raise SpecError(
-                    f"the key {text!r} appears twice (lines {seen[text]} and {line}); each key may appear once",
+                    f"the key {text!r} appears twice (lines {seen[ident]} and {line}); each key may appear once"
+                    " (0, '0' and 0.0 are the same key)",
                     path=self.path_text(text),
                 )
-            seen[text] = line
+            seen[ident] = line
         return node
+
+
+def _key_identity(text: str) -> Any:
+    """Keys that name the same thing collide: ``0``, ``'0'`` and ``0.0`` are one key."""
+    from uio_ring.ring.parse import decimal_fraction
+
+    if len(text) <= 40 and re.fullmatch(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", text):
+        try:
+            return ("number", decimal_fraction(text))
+        except (ValueError, TypeError):
+            pass
+    return ("text", text)
 
 
 # YAML 1.2 core schema for plain scalars (PyYAML implements YAML 1.1's wider rules).

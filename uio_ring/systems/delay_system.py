@@ -148,6 +148,8 @@ class DelaySystem:
         if A_.rows != A_.cols:
             raise DimensionError(f"A is {A_.rows}×{A_.cols}; it must be square (n_x × n_x)")
         n = A_.rows
+        if n == 0:
+            raise DimensionError("A is 0×0: a system without states has nothing to observe; give at least one state")
         C_ = _as_polymatrix(C, "C")
         if C_.cols != n:
             raise DimensionError(f"C has {C_.cols} columns; expected {n} (= columns of A)")

@@ -1,0 +1,327 @@
+"""Hostile and careless input to the command line (issue 16), one table per class.
+
+Every refused case asserts: exit code 2, exactly one line on stderr, that the
+line names the YAML path (or the option) at fault, no traceback, and that no
+file appeared anywhere outside the output folder (for refused runs: no file
+at all).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from uio_ring.cli import main
+
+SYSTEM = "  A: [[0, 1], [-1, -d]]\n  B: [[0], [1]]\n  C: [[1, 0], [0, 1]]\n  h: 0.1\n"
+DESIGN = "design:\n  poles: [-2]\n"
+SIMULATE = "simulate:\n  t_final: 0.5\n  dt: 0.01\n  w: ['sin(t)']\n  phi: [1, 0]\n"
+
+
+def spec(system: str = SYSTEM, design: str = DESIGN, simulate: str = SIMULATE, top: str = "name: small\n") -> str:
+    return top + "system:\n" + system + design + simulate
+
+
+def with_sim(**fields: str) -> str:
+    """The spec with simulate fields added or replaced (values are YAML text)."""
+    lines = {"t_final": "0.5", "dt": "0.01", "w": "['sin(t)']", "phi": "[1, 0]"}
+    lines.update(fields)
+    return spec(simulate="simulate:\n" + "".join(f"  {k}: {v}\n" for k, v in lines.items()))
+
+
+def files_under(root: Path) -> set[Path]:
+    return {p for p in root.rglob("*") if p.is_file()}
+
+
+@pytest.fixture
+def work(tmp_path, monkeypatch):
+    """A working folder (the current directory) with the spec; output goes to ./out unless a case says otherwise."""
+    folder = tmp_path / "work"
+    folder.mkdir()
+    monkeypatch.chdir(folder)
+    return folder
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def assert_refused(code: int, err: str, where: str) -> None:
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert code == 2, err
+    assert len(lines) == 1, err
+    assert lines[0].startswith("uio-ring: error: "), err
+    assert where in lines[0], (where, lines[0])
+    assert "Traceback" not in err
+
+
+def refuse(work: Path, capsys, text: str, where: str, command: str = "design", extra: tuple[str, ...] = ()) -> str:
+    (work / "spec.yaml").write_text(text, encoding="utf-8")
+    before = files_under(work.parent)
+    start = time.perf_counter()
+    code, _, err = run(capsys, command, "spec.yaml", "--out", "out", *extra,
+                       *(["--no-progress", "--no-plot"] if command == "simulate" else []))
+    assert time.perf_counter() - start < 30  # bounded work: refused long before any hang
+    assert_refused(code, err, where)
+    assert files_under(work.parent) == before  # nothing written anywhere
+    return err
+
+
+# ---------------------------------------------------------------------------------------
+# 1. work is bounded before it is done
+# ---------------------------------------------------------------------------------------
+POWER_CHAIN = "(1+d)**4096*" * 15 + "(1+d)**4096"
+BOUNDED = [
+    ("design", spec(system=SYSTEM.replace("[-1, -d]", "[-1, 1e99999999]")), "system.A[1][1]"),
+    ("design", spec(system=SYSTEM.replace("[-1, -d]", f"[-1, '{POWER_CHAIN}']")), "system.A[1][1]"),
+    ("design", spec(system=SYSTEM.replace("[[0, 1], [-1, -d]]", f"'[[0, 1], [-1, {POWER_CHAIN}]]'")), "system.A"),
+    ("design", spec(system=SYSTEM.replace("[-1, -d]", "[-1, 'd**17']")), "system.A[1][1]"),
+    ("design", spec(system=SYSTEM.replace("[-1, -d]", "[-1, '(10**1000)**1000']")), "system.A[1][1]"),
+    ("design", spec(system=SYSTEM.replace("h: 0.1", "h: 1e-5000")), "system.h"),
+    ("design", spec(system=SYSTEM.replace("h: 0.1", "h: " + "7" * 5000)), "system.h"),
+    ("design", spec(system=SYSTEM.replace("h: 0.1", "h: '1e99999999'")), "system.h"),
+    ("design", spec(design="design:\n  poles: [1e5000]\n"), "design.poles[0]"),
+    ("design", spec(design="design:\n  poles: ['-10**5000']\n"), "design.poles[0]"),
+    ("design", spec(system=SYSTEM.replace("[-1, -d]", "[-1, '" + "(" * 5000 + "d" + ")" * 5000 + "']")), "system.A[1][1]"),
+    ("design", spec(system=SYSTEM.replace("[[0, 1], [-1, -d]]", "{0: [[0, 1], [-1, 0]], 99999999999: [[0, 0], [0, 1]]}")), "system.A"),
+    ("design", spec(system="  A: " + "[" * 40 + "0" + "]" * 40 + "\n  B: [[1]]\n  C: [[1]]\n"), "system.A"),
+    ("simulate", with_sim(t_final="1e5000"), "simulate.t_final"),
+    ("simulate", with_sim(dt="1e-400"), "simulate.dt"),
+    ("simulate", with_sim(x_hat0="[1e400, 0]"), "simulate.x_hat0[0]"),
+    ("simulate", with_sim(noise="{bound: 1e400}"), "simulate.noise.bound"),
+    ("simulate", with_sim(noise="{bound: 1e308}"), "simulate.noise.bound"),
+    ("simulate", with_sim(noise="{bound: 1, seed: -1}"), "simulate.noise.seed"),
+    ("simulate", with_sim(noise="{bound: 1, seed: 1e99999999}"), "simulate.noise.seed"),
+    ("simulate", with_sim(w="['" + "t**" * 600 + "t']"), "simulate.w[0]"),
+    ("simulate", with_sim(w="['" + "(" * 900 + "t" + ")" * 900 + "']"), "simulate.w[0]"),
+    ("simulate", with_sim(w="['1e400*t']"), "simulate.w[0]"),
+    ("simulate", with_sim(settle="1e99999999"), "simulate.settle"),
+]
+
+
+@pytest.mark.parametrize("command,text,where", BOUNDED, ids=[f"{c}:{w}:{i}" for i, (c, _, w) in enumerate(BOUNDED)])
+def test_bounded_work_is_refused_with_the_path(work, capsys, command, text, where):
+    refuse(work, capsys, text, where, command)
+
+
+def test_long_signs_and_sums_finish(work, capsys):
+    text = with_sim(w="['" + "-" * 1500 + "sin(t)']", phi="['" + "+".join(["t"] * 400) + "', 0]")
+    text = text.replace("[-1, -d]", "[-1, '" + "-" * 99_999 + "d']")
+    (work / "spec.yaml").write_text(text, encoding="utf-8")
+    code, out, err = run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress", "--no-plot")
+    assert code == 0, err
+    assert "simulated 0.5 s" in out
+
+
+@pytest.mark.parametrize("path", ["/dev/zero", "/dev/null", "/dev/urandom"])
+def test_devices_are_refused_without_reading(capsys, path):
+    if not Path(path).exists():
+        pytest.skip(f"{path} does not exist here")
+    code, _, err = run(capsys, "check", path)
+    assert_refused(code, err, path)
+    assert "not a regular file" in err
+
+
+def test_a_fifo_without_writer_does_not_block(tmp_path):
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no FIFOs on this platform")
+    fifo = tmp_path / "spec.yaml"
+    os.mkfifo(fifo)
+    proc = subprocess.run([sys.executable, "-m", "uio_ring.cli", "check", str(fifo)], capture_output=True,
+                          text=True, timeout=60, check=False)
+    assert_refused(proc.returncode, proc.stderr, str(fifo))
+
+
+def test_ctrl_c_exits_130_without_traceback_or_files(tmp_path):
+    """SIGINT during a long run: exit 130, one line, no traceback, no file (finished or partial)."""
+    spec_path = tmp_path / "long.yaml"
+    spec_path.write_text(with_sim(t_final="2000", dt="0.01"), encoding="utf-8")
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "uio_ring.cli", "simulate", str(spec_path), "--out", str(out),
+                             "--no-progress"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(4)  # well inside the design or the simulation
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    if proc.returncode == 0:
+        pytest.fail("the run finished before the interrupt; make it longer")
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines() == ["uio-ring: interrupted"]
+    assert not out.exists() or not any(out.iterdir())
+
+
+# ---------------------------------------------------------------------------------------
+# 2. files: nothing outside the output folder, nothing overwritten, nothing half-written
+# ---------------------------------------------------------------------------------------
+FILES = [
+    (spec(top="name: ../x\n"), "name", ()),
+    (spec(top="name: /tmp/evil\n"), "name", ()),
+    (spec(top="name: '.'\n"), "name", ()),
+    (spec(top="name: '..'\n"), "name", ()),
+    (spec(top="name: .hidden\n"), "name", ()),
+    (spec(top="name: \"a\\u0001b\"\n"), "name", ()),
+    (spec(top="name: " + "n" * 300 + "\n"), "name", ()),
+    (spec(top="name: small\noutput:\n  directory: /tmp/abs\n"), "output.directory", ("--out",)),
+    (spec(top="name: small\noutput:\n  directory: ../up\n"), "output.directory", ("--out",)),
+    (spec(top="name: small\noutput:\n  directory: a/../../up\n"), "output.directory", ("--out",)),
+]
+
+
+@pytest.mark.parametrize("text,where,drop", FILES, ids=[f"{w}:{i}" for i, (_, w, _) in enumerate(FILES)])
+def test_names_and_folders_stay_inside(work, capsys, text, where, drop):
+    (work / "spec.yaml").write_text(text, encoding="utf-8")
+    before = files_under(work.parent.parent)
+    argv = ["design", "spec.yaml"] + ([] if "--out" in drop else ["--out", "out"])
+    code, _, err = run(capsys, *argv)
+    assert_refused(code, err, where)
+    assert files_under(work.parent.parent) == before
+
+
+OUT_OPTIONS = [
+    (lambda w: str(w / "spec.yaml"), "--out", "exists and is not a folder"),
+    (lambda w: str(w / "spec.yaml" / "sub"), "--out", "is a file"),
+    (lambda w: "out\x00put", "--out", "NUL"),
+    (lambda w: "o" * 300, "--out", "too long"),
+    (lambda w: "", "--out", "empty folder name"),
+]
+
+
+@pytest.mark.parametrize("out,where,reason", OUT_OPTIONS, ids=[r for _, _, r in OUT_OPTIONS])
+def test_bad_out_is_refused_with_the_reason(work, capsys, out, where, reason):
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    before = files_under(work.parent)
+    code, _, err = run(capsys, "design", "spec.yaml", "--out", out(work))
+    assert_refused(code, err, where)
+    assert reason in err
+    assert files_under(work.parent) == before
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root ignores permissions")
+def test_unwritable_out_is_refused(work, capsys):
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    locked = work / "locked"
+    locked.mkdir(mode=0o500)
+    code, _, err = run(capsys, "design", "spec.yaml", "--out", str(locked / "sub"))
+    assert_refused(code, err, "--out")
+    assert "permission denied" in err
+
+
+def test_existing_outputs_are_not_overwritten_without_force(work, capsys):
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    assert run(capsys, "design", "spec.yaml", "--out", "out", "--latex", "d.tex")[0] == 0
+    written = {p: p.read_bytes() for p in files_under(work)}
+    (work / "out" / "small.json").write_text("mine")
+    code, _, err = run(capsys, "design", "spec.yaml", "--out", "out")
+    assert_refused(code, err, "--out")
+    assert "already exist" in err and "--force" in err
+    assert (work / "out" / "small.json").read_text() == "mine"
+    (work / "out" / "small.json").unlink()
+    (work / "out" / "small.yaml").unlink()
+    code, _, err = run(capsys, "design", "spec.yaml", "--out", "out", "--latex", "d.tex")
+    assert_refused(code, err, "--latex")
+    assert not (work / "out" / "small.json").exists()  # refused before any work: nothing written
+    code, _, err = run(capsys, "design", "spec.yaml", "--out", "out", "--latex", "d.tex", "--force")
+    assert code == 0, err
+    assert set(files_under(work)) == set(written)
+
+
+def test_latex_naming_a_folder_is_refused(work, capsys):
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    code, _, err = run(capsys, "design", "spec.yaml", "--out", "out", "--latex", str(work))
+    assert_refused(code, err, "--latex")
+    assert not (work / "out").exists()
+
+
+def test_failed_certificate_writes_nothing(work, capsys):
+    (work / "spec.yaml").write_text(spec(design="design:\n  poles: [5]\n"), encoding="utf-8")
+    code, out, err = run(capsys, "design", "spec.yaml", "--out", "out")
+    assert code == 1
+    assert "certificate FAILED" in out and "no design files written" in err
+    assert not (work / "out").exists()
+    code, out, err = run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress")
+    assert code == 1 and not (work / "out").exists()
+
+
+def test_no_temporary_files_remain_after_success(work, capsys):
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    assert run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress")[0] == 0
+    names = sorted(p.name for p in (work / "out").iterdir())
+    assert names == ["small.csv", "small.json", "small.png"]
+
+
+# ---------------------------------------------------------------------------------------
+# 3. data are never silently wrong
+# ---------------------------------------------------------------------------------------
+DATA = [
+    (spec(system=SYSTEM + "  A: [[1, 0], [0, 1]]\n"), "system.A", "appears twice"),
+    (spec(system=SYSTEM.replace("[[0, 1], [-1, -d]]", "{0: [[0, 1], [-1, 0]], '0': [[0, 0], [0, 1]]}")),
+     "system.A", "appears twice"),
+    (spec(system=SYSTEM.replace("[[0, 1], [-1, -d]]", "{0: [[0, 1], [-1, 0]], 0.0: [[0, 0], [0, 1]]}")),
+     "system.A", "(0, '0' and 0.0 are the same key)"),
+    (spec(design="design:\n  poles: [-2]\n  poles: [-3]\n"), "design.poles", "appears twice"),
+    (spec(system=SYSTEM.replace("h: 0.1", "h: 1:30")), "system.h", "'1:30'"),
+    (spec(system=SYSTEM.replace("[-1, -d]", "[-1, 0x10]")), "system.A[1][1]", "'0x10'"),
+    (spec(system=SYSTEM.replace("[-1, -d]", "[-1, 0o17]")), "system.A[1][1]", "'0o17'"),
+    (spec(system=SYSTEM.replace("[-1, -d]", "[-1, !!int 1:30]")), "system.A[1][1]", "not a decimal integer"),
+    (spec(system=SYSTEM + "  states: [t, v]\n"), "system.states[0]", "reserved"),
+    (spec(system=SYSTEM + "  states: [p, v]\n  outputs: [p, q]\n"), "system.outputs[0]", "already used"),
+    (spec(system=SYSTEM + "  states: [p, v]\n  outputs: [error_p, q]\n"), "system.outputs[0]", "reserved"),
+    (spec(system=SYSTEM + "  states: ['a,b', v]\n"), "system.states[0]", "','"),
+    (spec(system=SYSTEM + "  states: [\"a\\nb\", v]\n"), "system.states[0]", "'\\n'"),
+    (spec(system=SYSTEM + "  states: [yes, no]\n"), "system.states", None),
+    (spec(system=SYSTEM + "  states: [1, 2]\n"), "system.states[0]", "quote it"),
+]
+
+
+@pytest.mark.parametrize("text,where,reason", DATA, ids=[f"{w}:{i}" for i, (_, w, _) in enumerate(DATA)])
+def test_ambiguous_data_is_refused(work, capsys, text, where, reason):
+    if reason is None:  # yes/no are text under YAML 1.2's rule: valid names, the spec loads
+        (work / "spec.yaml").write_text(text, encoding="utf-8")
+        code, out, _ = run(capsys, "check", "spec.yaml")
+        assert code == 0
+        return
+    err = refuse(work, capsys, text, where)
+    assert reason in err
+
+
+NON_FINITE = [
+    {"w": "['1e308']", "t_final": "5"},  # the plant overflows after 1.4 s: NaN estimates
+    {"w": "['1e308*(1 + 100*t)']"},  # the input itself overflows
+    {"w": "['1e300*exp(1000*t)']"},
+    {"w": "['1/(t - t)']"},  # 1/0 at every step
+]
+
+
+@pytest.mark.parametrize("fields", NON_FINITE, ids=lambda f: ",".join(f.values()))
+def test_non_finite_simulation_is_an_error(work, capsys, fields):
+    err = refuse(work, capsys, with_sim(**fields), "simulate", "simulate")
+    assert "not finite" in err
+
+
+def test_duplicate_powers_from_python_data_are_refused():
+    from uio_ring.errors import SpecError
+    from uio_ring.spec import spec_from_dict
+
+    data = {"system": {"A": {0: [[1]], "0": [[2]]}, "B": [[1]], "C": [[1]]}}
+    with pytest.raises(SpecError, match=r"^system\.A: the keys 0 and '0' both name the coefficient of d\^0"):
+        spec_from_dict(data)
+
+
+def test_csv_header_is_escaped_and_unique(work, capsys):
+    text = spec(system=SYSTEM + "  states: ['p (m)', 'v [m/s]']\n  outputs: ['y p', 'y v']\n")
+    (work / "spec.yaml").write_text(text, encoding="utf-8")
+    assert run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress", "--no-plot")[0] == 0
+    import csv
+
+    with open(work / "out" / "small.csv", newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    assert header == ["t", "p (m)", "v [m/s]", "y p", "y v", "xhat_p (m)", "xhat_v [m/s]", "error_p (m)", "error_v [m/s]"]
+    assert len(set(header)) == len(header) and all(len(r) == len(header) for r in rows)
