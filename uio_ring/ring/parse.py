@@ -70,11 +70,11 @@ MAX_NUMBER_DIGITS = 1000
 _DECIMAL = re.compile(r"\s*([+-]?)(\d*)(?:\.(\d*))?(?:[eE]([+-]?\d+))?\s*\Z")
 
 
-def decimal_fraction(text: str, where: str = "number") -> Fraction:
+def decimal_fraction(text: str, where: str = "number", *, max_digits: int = MAX_NUMBER_DIGITS) -> Fraction:
     """The exact value of decimal text (``"0.1"``, ``"-2.5e-3"``, ``"7"``, ``"1/3"``), bounded.
 
     Unlike ``Fraction(text)``, the size is checked before the number is built:
-    text implying more than ``MAX_NUMBER_DIGITS`` digits raises
+    text implying more than ``max_digits`` (default ``MAX_NUMBER_DIGITS``) digits raises
     :class:`DomainError` at once (``Fraction("1e99999999")`` would build
     ``10**99999999``).  Malformed text raises :class:`ParseError`.
 
@@ -91,32 +91,32 @@ def decimal_fraction(text: str, where: str = "number") -> Fraction:
         num, den = text.split("/")
         if "." in num + den or "e" in (num + den).lower():
             raise ParseError(f"{where}: cannot read {_short(text)} as a number", text=text, position=0)
-        q = decimal_fraction(den, where)
+        q = decimal_fraction(den, where, max_digits=max_digits)
         if q == 0:
             raise ParseError(f"{where}: division by zero in {_short(text)}", text=text, position=0)
-        return decimal_fraction(num, where) / q
-    m = _DECIMAL.match(text.replace("_", "")) if len(text) <= 2 * MAX_NUMBER_DIGITS + 16 else None
+        return decimal_fraction(num, where, max_digits=max_digits) / q
+    m = _DECIMAL.match(text.replace("_", "")) if len(text) <= 2 * max_digits + 16 else None
     if m is None or not (m.group(2) or m.group(3)):
-        if len(text) > 2 * MAX_NUMBER_DIGITS + 16 and _DECIMAL.match(text[:64]):
-            raise DomainError(f"{where}: a number of {len(text)} characters exceeds {MAX_NUMBER_DIGITS} digits "
+        if len(text) > 2 * max_digits + 16 and _DECIMAL.match(text[:64]):
+            raise DomainError(f"{where}: a number of {len(text)} characters exceeds {max_digits} digits "
                               "(uio_ring.ring.parse.MAX_NUMBER_DIGITS)")
         raise ParseError(f"{where}: cannot read {_short(text)} as a number", text=text, position=0)
     sign, whole, frac, exp = m.groups()
     frac = frac or ""
     digits = (whole + frac).lstrip("0")
-    if exp is not None and len(exp.lstrip("+-")) > 7:
-        size = MAX_NUMBER_DIGITS + 1
+    if exp is not None and len(exp.lstrip("+-")) > 9:
+        size = max_digits + 1
     else:
         e = int(exp) if exp else 0
         size = len(digits) + abs(e - len(frac)) if digits else 0
-    if size > MAX_NUMBER_DIGITS:
+    if size > max_digits:
         raise DomainError(
-            f"{where}: {_short(text)} implies more than {MAX_NUMBER_DIGITS} digits "
+            f"{where}: {_short(text)} implies more than {max_digits} digits "
             "(uio_ring.ring.parse.MAX_NUMBER_DIGITS); write it with fewer digits or a smaller exponent"
         )
     if not digits:
         return Fraction(0)
-    value = Fraction(int(digits)) * Fraction(10) ** (e - len(frac))
+    value = Fraction(int(flint.fmpz(digits))) * Fraction(10) ** (e - len(frac))  # fmpz: no 4300-digit limit
     return -value if sign == "-" else value
 
 
@@ -173,7 +173,9 @@ def _tokenize(text: str) -> list[tuple[str, str, int]]:
 
 
 class _Parser:
-    def __init__(self, text: str, var: str, max_degree: int = MAX_DEGREE, max_bits: int = MAX_BITS):
+    def __init__(
+        self, text: str, var: str, max_degree: int = MAX_DEGREE, max_bits: int = MAX_BITS, max_digits: int = MAX_NUMBER_DIGITS
+    ):
         self.text = text
         self.var = var
         self.names = var_aliases(var)
@@ -182,6 +184,7 @@ class _Parser:
         self.depth = 0
         self.max_degree = max_degree
         self.max_bits = max_bits
+        self.max_digits = max_digits
 
     def too_big(self, pos: int, what: str) -> DomainError:
         return DomainError(f"{_short(self.text)}, column {pos + 1}: {what}")
@@ -309,9 +312,9 @@ class _Parser:
         if kind == "num":
             self.i += 1
             try:
-                return bk.const(decimal_fraction(tv))
+                return bk.const(decimal_fraction(tv, max_digits=self.max_digits))
             except DomainError:
-                raise self.too_big(pos, f"the number {_short(tv)} implies more than {MAX_NUMBER_DIGITS} digits "
+                raise self.too_big(pos, f"the number {_short(tv)} implies more than {self.max_digits} digits "
                                    "(uio_ring.ring.parse.MAX_NUMBER_DIGITS)") from None
         if kind == "name":
             self.i += 1
@@ -365,30 +368,33 @@ class _Parser:
             raise self.error("an operator or the end of the text")
 
 
-def parse_poly(text: str, var: str = "d", *, max_degree: int = MAX_DEGREE, max_bits: int = MAX_BITS) -> flint.fmpq_poly:
+def parse_poly(
+    text: str, var: str = "d", *, max_degree: int = MAX_DEGREE, max_bits: int = MAX_BITS, max_digits: int = MAX_NUMBER_DIGITS
+) -> flint.fmpq_poly:
     """Parse one polynomial (raises :class:`ParseError` / :class:`DomainError`).
 
     ``max_degree`` and ``max_bits`` bound every intermediate result, checked
-    before it is computed (see the module docstring).
+    before it is computed, and ``max_digits`` every number written (see the
+    module docstring).
     """
     if not text.strip():
         raise ParseError("cannot parse an empty text as a polynomial", text=text, position=0)
-    p = _Parser(text, canonical_var(var), max_degree, max_bits)
+    p = _Parser(text, canonical_var(var), max_degree, max_bits, max_digits)
     value = p.expr()
     p.finish()
     return value
 
 
 def parse_matrix(
-    text: str, var: str = "d", *, max_degree: int = MAX_DEGREE, max_bits: int = MAX_BITS
+    text: str, var: str = "d", *, max_degree: int = MAX_DEGREE, max_bits: int = MAX_BITS, max_digits: int = MAX_NUMBER_DIGITS
 ) -> list[list[flint.fmpq_poly]]:
     """Parse ``[[a, b], [c, d]]`` into rows of polynomials (rows may be ragged; the caller checks).
 
-    ``max_degree`` and ``max_bits`` bound every entry as in :func:`parse_poly`.
+    ``max_degree``, ``max_bits`` and ``max_digits`` bound every entry as in :func:`parse_poly`.
     """
     if not text.strip():
         raise ParseError("cannot parse an empty text as a matrix", text=text, position=0)
-    p = _Parser(text, canonical_var(var), max_degree, max_bits)
+    p = _Parser(text, canonical_var(var), max_degree, max_bits, max_digits)
     rows = p.matrix()
     p.finish()
     return rows

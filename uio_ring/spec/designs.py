@@ -49,6 +49,10 @@ FORMAT_VERSION = 1
 MAX_DESIGN_BYTES = 50_000_000
 #: Largest matrix dimension accepted in a design file.
 MAX_DESIGN_DIMENSION = 4096
+#: Largest number (decimal digits) and coefficient (bits) accepted in a design file:
+#: designs multiply the spec's numbers, so their files hold larger ones than specs.
+MAX_DESIGN_DIGITS = 100_000
+MAX_DESIGN_BITS = 400_000
 
 
 def _design_classes() -> dict[str, type]:
@@ -70,7 +74,7 @@ def _encode(value: Any) -> Any:
     if isinstance(value, DelaySystem):
         return {"$system": value.to_dict(), "shapes": {k: list(M.shape) for k, M in value.matrices().items()}}
     if isinstance(value, Fraction):
-        return {"$q": str(value)}
+        return {"$q": _fraction_text(value)}
     if isinstance(value, (tuple, list)):
         return {"$tuple": [_encode(v) for v in value]}
     if isinstance(value, dict):
@@ -132,7 +136,11 @@ def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
                 raise SpecError("a matrix is a list of rows", path=where)
             if any(not isinstance(x, (str, int)) or isinstance(x, bool) for r in entries for x in r):
                 raise SpecError("matrix entries are polynomial strings such as '1/2*d + 1'", path=where)
-            return PolyMatrix(entries, shape=(rows, cols)) if rows and cols else PolyMatrix.zeros(rows, cols)
+            if not (rows and cols):
+                return PolyMatrix.zeros(rows, cols)
+            if len(entries) != rows or any(len(r) != cols for r in entries):
+                raise SpecError(f"the entries do not form the {rows}×{cols} matrix the shape says", path=where)
+            return PolyMatrix._new([[_poly(x, where) for x in r] for r in entries], rows, cols, "d")
         if "$system" in value:
             data = dict(value["$system"])
             for k, (r, c) in value["shapes"].items():
@@ -142,7 +150,7 @@ def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
         if "$q" in value:
             from uio_ring.ring.parse import decimal_fraction
 
-            return decimal_fraction(str(value["$q"]), where)
+            return decimal_fraction(str(value["$q"]), where, max_digits=MAX_DESIGN_DIGITS)
         if "$tuple" in value:
             return tuple(_decode(v, f"{where}[{i}]", helpers) for i, v in enumerate(value["$tuple"]))
         if "$dict" in value:
@@ -161,6 +169,24 @@ def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
     raise SpecError(f"unknown tag in {sorted(value)}", path=where)
 
 
+def _poly(x: Any, where: str) -> Any:
+    from uio_ring.ring import _backend as bk
+    from uio_ring.ring.parse import MAX_DEGREE, parse_poly
+
+    if isinstance(x, int):
+        return bk.const(x)
+    return parse_poly(x, "d", max_degree=MAX_DEGREE, max_bits=MAX_DESIGN_BITS, max_digits=MAX_DESIGN_DIGITS)
+
+
+def _fraction_text(q: Fraction) -> str:
+    """``'p/q'`` of any size (Python's int-to-text stops at 4 300 digits; FLINT's does not)."""
+    import flint
+
+    if q.numerator.bit_length() + q.denominator.bit_length() < 10_000:
+        return str(q)
+    return str(flint.fmpq(q.numerator, q.denominator))
+
+
 def design_from_data(data: Any) -> Any:
     """Rebuild a design from :func:`design_to_data` output."""
     import sys
@@ -173,7 +199,7 @@ def design_from_data(data: Any) -> Any:
         raise SpecError(f"unknown design method {data.get('method')!r}; known: {', '.join(classes)}", path="method")
     module = vars(sys.modules[cls.__module__])
     helpers = {name: obj for name, obj in module.items() if isinstance(obj, type) and dataclasses.is_dataclass(obj)}
-    fields = data.get("fields") or {}
+    fields = data.get("fields", {})
     if not isinstance(fields, dict):
         raise SpecError("'fields' is not a mapping", path="fields")
     try:
@@ -291,10 +317,8 @@ def save_design(design: Any, stem: str | Path, *, formats: Sequence[str] = ("jso
 
 
 def _bounded_int(text: str) -> int:
-    from uio_ring.ring.parse import MAX_NUMBER_DIGITS
-
-    if len(text.lstrip("-")) > MAX_NUMBER_DIGITS:
-        raise SpecError(f"an integer of {len(text)} digits exceeds {MAX_NUMBER_DIGITS} digits")
+    if len(text.lstrip("-")) > 18:
+        raise SpecError(f"an integer of {len(text)} digits in a design file; exact numbers are stored as strings")
     return int(text)
 
 
