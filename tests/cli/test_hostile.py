@@ -16,6 +16,8 @@ import time
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from uio_ring.cli import main
 
@@ -325,3 +327,48 @@ def test_csv_header_is_escaped_and_unique(work, capsys):
     header = rows[0]
     assert header == ["t", "p (m)", "v [m/s]", "y p", "y v", "xhat_p (m)", "xhat_v [m/s]", "error_p (m)", "error_v [m/s]"]
     assert len(set(header)) == len(header) and all(len(r) == len(header) for r in rows)
+
+
+# ---------------------------------------------------------------------------------------
+# random specs inside the limits finish, with exit 0 or 1, within a measured budget
+# ---------------------------------------------------------------------------------------
+ENTRY = st.sampled_from(["0", "1", "-1", "2", "d", "-d", "1/2", "d + 1", "0.5*d**2", "-3"])
+
+
+@st.composite
+def small_specs(draw):
+    n = draw(st.integers(1, 3))
+    m = draw(st.integers(1, 2))
+    p = draw(st.integers(1, 3))
+
+    def mat(r, c):
+        return "[" + ", ".join("[" + ", ".join(draw(ENTRY) for _ in range(c)) + "]" for _ in range(r)) + "]"
+
+    system = f"  A: {mat(n, n)}\n  B: {mat(n, m)}\n  C: {mat(p, n)}\n  h: 0.1\n"
+    w = "[" + ", ".join(["'sin(t)'"] * m) + "]"
+    sim = f"simulate:\n  t_final: 0.3\n  dt: 0.05\n  w: {w}\n"
+    return spec(system=system, design="", simulate=sim)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(text=small_specs(), command=st.sampled_from(["check", "design", "simulate"]))
+def test_random_specs_inside_the_limits_finish(tmp_path, capsys, text, command):
+    folder = tmp_path / f"r{abs(hash(text)) % 10**8}{command}"
+    folder.mkdir()
+    (folder / "spec.yaml").write_text(text, encoding="utf-8")
+    argv = [command, str(folder / "spec.yaml")]
+    if command != "check":
+        argv += ["--out", str(folder / "out"), "--force"]
+    if command == "simulate":
+        argv += ["--no-progress", "--no-plot"]
+    start = time.perf_counter()
+    code = main(argv)
+    elapsed = time.perf_counter() - start
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert code in (0, 1, 2), err
+    if code == 2:  # only the simulation may refuse (non-finite results of an unstable random plant)
+        assert command == "simulate" and err.startswith("uio-ring: error: simulate"), err
+    assert elapsed < 120, f"{command} took {elapsed:.1f} s"
+    if code != 0:
+        assert not (folder / "out").exists()
