@@ -372,3 +372,20 @@ def test_random_specs_inside_the_limits_finish(tmp_path, capsys, text, command):
     assert elapsed < 120, f"{command} took {elapsed:.1f} s"
     if code != 0:
         assert not (folder / "out").exists()
+
+
+CALCULATOR = [
+    ("[[(1+d)**4096, 1], [d**4095, 1]]", "degree 4096, above the limit 64"),
+    ("[[" + ", ".join(["1"] * 17) + "]]", "at most 16×16"),
+    ("[[1e99999999]]", "more than 1000 digits"),
+    ("[[" + "(" * 5000 + "d" + ")" * 5000 + "]]", "nested deeper than 100"),
+    ("[[d, 1], [2]]", "row 1 has 1 entries"),
+]
+
+
+@pytest.mark.parametrize("text,reason", CALCULATOR, ids=[r for _, r in CALCULATOR])
+def test_calculator_is_bounded(capsys, text, reason):
+    for command in ("hermite", "smith"):
+        code, _, err = run(capsys, command, text)
+        assert_refused(code, err, "")
+        assert reason in err

@@ -5,12 +5,35 @@
     S =
     [1         0]
     [0  d**2 + d]
+
+The matrix text is bounded while it is parsed: at most ``MAX_SIZE`` rows and
+columns, degree ``MAX_DEGREE`` and the spec loader's coefficient size, so a
+hostile argument is refused before any work (exit 2).
 """
 
 from __future__ import annotations
 
 import argparse
 from typing import Any
+
+#: Largest degree accepted by the calculator (entries and every intermediate result).
+MAX_DEGREE = 64
+#: Most rows or columns accepted by the calculator.
+MAX_SIZE = 16
+
+
+def _matrix(text: str, var: str) -> Any:
+    from uio_ring.errors import DimensionError
+    from uio_ring.ring import PolyMatrix
+    from uio_ring.ring.parse import parse_matrix
+    from uio_ring.spec.loader import MAX_COEFFICIENT_BITS
+
+    if len(text) > 1_000_000:
+        raise DimensionError(f"the matrix text has {len(text)} characters; at most 1 000 000")
+    rows = parse_matrix(text, var, max_degree=MAX_DEGREE, max_bits=MAX_COEFFICIENT_BITS)
+    if len(rows) > MAX_SIZE or any(len(r) > MAX_SIZE for r in rows):
+        raise DimensionError(f"the calculator takes at most {MAX_SIZE}×{MAX_SIZE} matrices")
+    return PolyMatrix(rows, var=var)
 
 
 def add_parser(sub: Any) -> None:
@@ -33,9 +56,9 @@ def _show(name: str, M: Any, latex: bool) -> str:
 
 
 def _run_hermite(args: argparse.Namespace) -> int:
-    from uio_ring.ring import PolyMatrix, hermite
+    from uio_ring.ring import hermite
 
-    M = PolyMatrix(args.matrix, var=args.var)
+    M = _matrix(args.matrix, args.var)
     r = hermite(M)
     print(f"rank: {r.rank}   pivot columns: {', '.join(map(str, r.pivots)) or '-'}")
     print(_show("H", r.H, args.latex))
@@ -46,9 +69,9 @@ def _run_hermite(args: argparse.Namespace) -> int:
 
 
 def _run_smith(args: argparse.Namespace) -> int:
-    from uio_ring.ring import PolyMatrix, smith
+    from uio_ring.ring import smith
 
-    M = PolyMatrix(args.matrix, var=args.var)
+    M = _matrix(args.matrix, args.var)
     s = smith(M)
     facs = ", ".join(str(f) for f in s.invariant_factors) or "(none: zero matrix)"
     print(f"invariant factors: {facs}")
