@@ -86,8 +86,11 @@ def _default_poles(sys: DelaySystem, l_star: int, rate: Any = None) -> tuple[Fra
 
 def _read_poles(poles: Sequence[Any] | None, l_star: int) -> tuple[Fraction, ...]:
     """Validate the requested spectrum: ``l*`` exact rationals (precondition: not None)."""
+    if getattr(poles, "ndim", None) == 1 and hasattr(poles, "dtype"):
+        poles = list(poles)  # type: ignore[arg-type]  # a 1-D NumPy array: its scalars follow the NumPy number rule
     if isinstance(poles, (str, bytes)) or not isinstance(poles, Sequence):
-        raise DomainError(f"poles must be a list of {l_star} rationals, not {poles!r}")
+        count = f"{l_star} " if l_star else ""
+        raise DomainError(f"poles must be a list of {count}rationals, not {poles!r}")
     values = tuple(exact_fraction(p, f"poles[{i}]") for i, p in enumerate(poles))
     if len(values) != l_star:
         raise DimensionError(
@@ -579,7 +582,7 @@ def _with_requested_poles(candidates: list[_Candidate], poles: Sequence[Any] | s
     """The candidates whose ``l*`` equals the number of requested poles (all when none are given)."""
     if poles is None or isinstance(poles, str):
         return candidates
-    count = len(_read_poles(poles, len(poles) if isinstance(poles, Sequence) else 0))
+    count = len(_read_poles(poles, len(poles) if isinstance(poles, Sequence) or hasattr(poles, "ndim") else 0))
     matching = [c for c in candidates if c.index.l_star == count]
     if not matching:
         options = " or ".join(str(o) for o in sorted({c.index.l_star for c in candidates}))
