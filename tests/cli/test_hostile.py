@@ -272,11 +272,11 @@ DATA = [
     (spec(system=SYSTEM.replace("[-1, -d]", "[-1, 0x10]")), "system.A[1][1]", "'0x10'"),
     (spec(system=SYSTEM.replace("[-1, -d]", "[-1, 0o17]")), "system.A[1][1]", "'0o17'"),
     (spec(system=SYSTEM.replace("[-1, -d]", "[-1, !!int 1:30]")), "system.A[1][1]", "not a decimal integer"),
-    (spec(system=SYSTEM + "  states: [t, v]\n"), "system.states[0]", "reserved"),
-    (spec(system=SYSTEM + "  states: [p, v]\n  outputs: [p, q]\n"), "system.outputs[0]", "already used"),
-    (spec(system=SYSTEM + "  states: [p, v]\n  outputs: [error_p, q]\n"), "system.outputs[0]", "reserved"),
+    (spec(system=SYSTEM + "  states: [p, p]\n"), "system", "repeated names"),
     (spec(system=SYSTEM + "  states: ['a,b', v]\n"), "system.states[0]", "','"),
     (spec(system=SYSTEM + "  states: [\"a\\nb\", v]\n"), "system.states[0]", "'\\n'"),
+    (spec(system=SYSTEM + "  states: ['p\"', v]\n"), "system.states[0]", "contains '\"'"),
+    (spec(system=SYSTEM + "  states: [" + "s" * 65 + ", v]\n"), "system.states[0]", "longer than 64"),
     (spec(system=SYSTEM + "  states: [yes, no]\n"), "system.states", None),
     (spec(system=SYSTEM + "  states: [1, 2]\n"), "system.states[0]", "quote it"),
 ]
@@ -317,7 +317,9 @@ def test_duplicate_powers_from_python_data_are_refused():
 
 
 def test_csv_header_is_escaped_and_unique(work, capsys):
-    text = spec(system=SYSTEM + "  states: ['p (m)', 'v [m/s]']\n  outputs: ['y p', 'y v']\n")
+    """Columns are ``kind.name``: a state called ``t``, an output sharing a state's name and an output
+    called ``error_p`` cannot replace another column; spaces and brackets survive the csv round trip."""
+    text = spec(system=SYSTEM + "  states: [t, 'v [m/s]']\n  outputs: ['v [m/s]', error_t]\n")
     (work / "spec.yaml").write_text(text, encoding="utf-8")
     assert run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress", "--no-plot")[0] == 0
     import csv
@@ -325,8 +327,10 @@ def test_csv_header_is_escaped_and_unique(work, capsys):
     with open(work / "out" / "small.csv", newline="", encoding="utf-8") as f:
         rows = list(csv.reader(f))
     header = rows[0]
-    assert header == ["t", "p (m)", "v [m/s]", "y p", "y v", "xhat_p (m)", "xhat_v [m/s]", "error_p (m)", "error_v [m/s]"]
+    assert header[:5] == ["t", "x.t", "x.v [m/s]", "y.v [m/s]", "y.error_t"]
+    assert "x_hat.t" in header and "error.v [m/s]" in header
     assert len(set(header)) == len(header) and all(len(r) == len(header) for r in rows)
+    assert [float(v) for v in rows[1][:1]] == [0.0]
 
 
 # ---------------------------------------------------------------------------------------

@@ -80,13 +80,13 @@ def test_untouched_files_load_equal(saved, tmp_path):
 
 
 RAW = [
-    ('{"uio_ring_design": 1, "method": "zheng_bejarano", "fields": {"r": 1.5}}', r"not exact"),
+    ('{"uio_ring_design": 1, "method": "zheng-bejarano", "fields": {"r": 1.5}}', r"not exact"),
     ('{"uio_ring_design": 1, "x": ' + "9" * 5000 + "}", r"integer of 5000 digits"),
     ('{"a": NaN}', r"not exact"),
     ("[" * 100_000 + "]" * 100_000, r"nested too deeply|not a uio_ring design"),
     ("{not json", r"not valid JSON"),
     ('{"uio_ring_design": 1, "method": "nope"}', r"unknown design method"),
-    ('{"uio_ring_design": 1, "method": "zheng_bejarano", "fields": []}', r"'fields' is not a mapping"),
+    ('{"uio_ring_design": 1, "method": "zheng-bejarano", "fields": []}', r"'fields' is not a mapping"),
 ]
 
 

@@ -273,14 +273,10 @@ _BAD_NAME = re.compile(r"[.,\"'\x00-\x1f\x7f]")
 
 
 def _check_name_lists(system: Any) -> None:
-    """Signal names become CSV column and plot labels: printable, distinct, and not ``t``.
-
-    Columns are ``t``, the states, the outputs, ``xhat_<state>`` and
-    ``error_<state>``; names are refused when they would collide there.
-    """
+    """Signal names become CSV column names (``x.<name>``, ``y.<name>``, …) and plot labels:
+    printable, at most ``MAX_SIGNAL_NAME`` characters, without ``. , " '`` or control characters."""
     if not isinstance(system, dict):
         return
-    owner: dict[str, str] = {}
     for key in _NAME_KEYS:
         names = system.get(key)
         if not isinstance(names, list):
@@ -297,11 +293,6 @@ def _check_name_lists(system: Any) -> None:
                                 "or control characters (they become CSV columns)", path=path)
             if len(n) > MAX_SIGNAL_NAME:
                 raise SpecError(f"a name of {len(n)} characters is longer than {MAX_SIGNAL_NAME}", path=path)
-            if n == "t" or n.startswith(("xhat_", "error_")):
-                raise SpecError(f"the name {n!r} is reserved for the CSV columns t, xhat_…, error_…", path=path)
-            if n in owner:
-                raise SpecError(f"the name {n!r} is already used at {owner[n]}; names must be distinct", path=path)
-            owner[n] = path
 
 
 def _stringify_keys(x: Any) -> Any:
