@@ -290,7 +290,11 @@ def _check_finite(result: Any) -> None:
 
     from uio_ring.errors import SpecError
 
-    for label, values in (("state", result.x), ("output", result.y), ("estimate", result.x_hat), ("error", result.error)):
+    signals = (("state", result.x), ("output", result.y), ("estimate", result.x_hat), ("error", result.error),
+               ("input estimate", getattr(result, "w_hat", None)))
+    for label, values in signals:
+        if values is None:
+            continue
         finite = np.isfinite(values)
         if not finite.all():
             k = int(np.argmax(~finite.all(axis=0)))
