@@ -106,6 +106,8 @@ BOUNDED = [
     ("simulate", with_sim(w="['" + "(" * 900 + "t" + ")" * 900 + "']"), "simulate.w[0]"),
     ("simulate", with_sim(w="['1e400*t']"), "simulate.w[0]"),
     ("simulate", with_sim(settle="1e99999999"), "simulate.settle"),
+    ("simulate", with_sim(t_final="200000"), "simulate: 20000000 steps × 11 recorded signals"),
+    ("simulate", with_sim(t_final="1e9"), "simulate: t_final/dt"),
 ]
 
 

@@ -44,6 +44,7 @@ __all__ = [
     "MAX_DIMENSION",
     "MAX_DELAY_DEGREE",
     "MAX_STEPS",
+    "MAX_RECORDED_VALUES",
     "MAX_COEFFICIENT_BITS",
     "MAX_SIMULATION_VALUE",
 ]
@@ -54,6 +55,11 @@ MAX_DIMENSION = 64
 MAX_DELAY_DEGREE = 16
 #: Most simulation steps accepted (t_final / dt).
 MAX_STEPS = 20_000_000
+#: Most values a simulation records (steps × signals: t, x, x̂, error, y, w, ŵ, u).  Every
+#: step is kept in memory and written to the CSV/NPZ: measured about 30 bytes of peak memory
+#: and 12 bytes of CSV per value (2·10⁶ steps of a 2-state system: 0.58 GB, 0.24 GB CSV, 40 s),
+#: so the budget is about 1.5 GB of memory and 0.6 GB of CSV.
+MAX_RECORDED_VALUES = 50_000_000
 #: Largest coefficient in a spec matrix, in bits (numerator plus denominator; about
 #: 3 600 decimal digits), bounded while parsing.
 MAX_COEFFICIENT_BITS = 12_000
@@ -640,6 +646,15 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
     if t_final / dt > MAX_STEPS:
         raise SpecError(
             f"t_final/dt = {math.ceil(t_final / dt)} steps exceed the limit of {MAX_STEPS}", path="simulate"
+        )
+    columns = 1 + 3 * system.n_x + system.n_y + 2 * system.n_w + system.n_u  # t, x, x̂, error, y, w, ŵ, u
+    values = math.ceil(t_final / dt) * columns
+    if values > MAX_RECORDED_VALUES:
+        raise SpecError(
+            f"{math.ceil(t_final / dt)} steps × {columns} recorded signals = {values:.3g} values exceed the memory "
+            f"budget of {MAX_RECORDED_VALUES:.0e} (uio_ring.spec.loader.MAX_RECORDED_VALUES); every step is kept "
+            "in memory and written out: choose a larger dt or a shorter t_final",
+            path="simulate",
         )
     w = _texts(data["w"], system.n_w, "simulate.w", "unknown inputs") if data.get("w") is not None else ()
     if not w and system.n_w:
