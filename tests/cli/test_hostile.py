@@ -395,3 +395,22 @@ def test_calculator_is_bounded(capsys, text, reason):
         code, _, err = run(capsys, command, text)
         assert_refused(code, err, "")
         assert reason in err
+
+
+@pytest.mark.parametrize("out", ["/proc/uio-ring-test", "/proc/self/uio-ring-test/sub"])
+def test_out_on_a_virtual_file_system_is_refused_before_any_work(work, capsys, out):
+    """Unwritable even for root: refused by a probe before the design runs, nothing left behind."""
+    if not Path("/proc/self").exists():
+        pytest.skip("no /proc here")
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    code, stdout, err = run(capsys, "design", "spec.yaml", "--out", out)
+    assert_refused(code, err, "--out")
+    assert "cannot write into" in err
+    assert "certificate" not in stdout  # refused before the design
+
+
+def test_folders_made_for_a_run_that_writes_nothing_are_removed(work, capsys):
+    (work / "spec.yaml").write_text(spec(design="design:\n  poles: [5]\n"), encoding="utf-8")
+    code, _, _ = run(capsys, "design", "spec.yaml", "--out", "a/b/c", "--latex", "x/y/d.tex")
+    assert code == 1
+    assert not (work / "a").exists() and not (work / "x").exists()

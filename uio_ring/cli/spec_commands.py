@@ -109,7 +109,9 @@ def _latex_target(args: argparse.Namespace) -> Path | None:
         raise SpecError("the file name contains a NUL character", path="--latex")
     if path.is_dir():
         raise SpecError(f"{args.latex} is a folder; give a file name such as design.tex", path="--latex")
-    Outputs(path.parent, force=args.force, where="--latex").prepare([path])
+    check = Outputs(path.parent, force=args.force, where="--latex")
+    check.prepare([path])
+    check.cleanup()  # checked now; the folder is made again when the file is written
     return path
 
 
@@ -211,13 +213,21 @@ def _performance_line(design: Any, spec: Any) -> str:
 
 def _run_design(args: argparse.Namespace) -> int:
     from uio_ring.spec import load_spec
-    from uio_ring.spec.designs import design_texts
 
     spec = load_spec(args.spec)
     formats = [f for f in (spec.output.formats or ("json", "yaml")) if f in ("json", "yaml", "latex")]
     suffixes = {"json": ".json", "yaml": ".yaml", "latex": ".tex"}
     latex = _latex_target(args)
     out, stem = _outputs(args, spec, [suffixes[f] for f in formats])  # before any work
+    try:
+        return _design_and_write(args, spec, out, stem, formats, latex)
+    finally:
+        out.cleanup()  # folders made for this run go again when nothing was written
+
+
+def _design_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Path, formats: list[str], latex: Any) -> int:
+    from uio_ring.spec.designs import design_texts
+
     design, method, skipped = _design(spec)
     cert = design.certificate()
     _print_design(spec, design, method, skipped, cert, args.quiet)
@@ -233,11 +243,8 @@ def _run_design(args: argparse.Namespace) -> int:
 
 
 def _run_simulate(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from uio_ring.errors import NotObservableError, SpecError, UioRingError
+    from uio_ring.errors import SpecError
     from uio_ring.spec import load_spec
-    from uio_ring.spec.designs import design_texts
 
     spec = load_spec(args.spec)
     if spec.simulate is None:
@@ -245,6 +252,18 @@ def _run_simulate(args: argparse.Namespace) -> int:
     formats = _simulation_formats(spec.output.formats, npz=args.npz, plot=not args.no_plot)
     suffixes = {"json": ".json", "yaml": ".yaml", "latex": ".tex", "csv": ".csv", "npz": ".npz", "png": ".png"}
     out, stem = _outputs(args, spec, [suffixes[f] for f in sorted(formats)])  # before any work
+    try:
+        return _simulate_and_write(args, spec, out, stem, formats)
+    finally:
+        out.cleanup()  # folders made for this run go again when nothing was written
+
+
+def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Path, formats: set[str]) -> int:
+    import numpy as np
+
+    from uio_ring.errors import NotObservableError, SpecError, UioRingError
+    from uio_ring.spec.designs import design_texts
+
     design, method, skipped = _design(spec)
     cert = design.certificate()
     _print_design(spec, design, method, skipped, cert, args.quiet)

@@ -126,37 +126,60 @@ class Outputs:
         self.force = force
         self.where = where
         self._staged: list[tuple[Path, Path]] = []
+        self._created: list[Path] = []
 
     # -- checks before any work ----------------------------------------------------
     def prepare(self, targets: list[Path]) -> None:
-        """Check, before any work, that the folder can be made and no target exists (unless ``force``).
+        """Check, before any work, that the folder is usable and no target exists (unless ``force``).
 
-        Nothing is created here: the folder is made when the first file is written.
+        Missing folders are created and a probe file is written and removed, so an
+        unwritable place (permissions, a read-only or virtual file system) is refused
+        now, not after the work; :meth:`cleanup` removes the folders again when the
+        run writes nothing.
         """
         folder = self.folder
         text = str(folder)
         if "\x00" in text:
             raise SpecError(f"the output folder name {_short(text)} contains a NUL character", path=self.where)
+        for part in folder.parts:
+            if len(part.encode("utf-8", "replace")) > 255:
+                raise SpecError(f"a folder name of {len(part)} characters is too long (at most 255)", path=self.where)
         try:
             if folder.exists() and not folder.is_dir():
                 raise SpecError(f"{_short(text)} exists and is not a folder", path=self.where)
             existing = folder
-            while not existing.exists():
-                if existing.parent == existing:
-                    break
+            while not existing.exists() and existing.parent != existing:
                 existing = existing.parent
             if existing.exists() and not existing.is_dir():
                 raise SpecError(f"{_short(str(existing))} is a file, so {_short(text)} cannot be a folder", path=self.where)
-            for part in folder.parts:
-                if len(part.encode("utf-8", "replace")) > 255:
-                    raise SpecError(f"a folder name of {len(part)} characters is too long (at most 255)", path=self.where)
-            if existing.exists() and not os.access(existing, os.W_OK | os.X_OK):
-                raise SpecError(f"cannot write into {_short(str(existing))}: permission denied", path=self.where)
+            missing = []
+            parent = folder
+            while not parent.exists() and parent.parent != parent:
+                missing.append(parent)
+                parent = parent.parent
+            for d in reversed(missing):
+                d.mkdir()
+                self._created.append(d)
+            probe = folder / f".uio-ring-probe.{os.getpid()}"
+            probe.write_bytes(b"")
+            probe.unlink()
         except SpecError:
+            self.cleanup()
             raise
         except OSError as exc:
-            raise SpecError(f"cannot use the output folder {_short(text)}: {exc.strerror}", path=self.where) from None
+            self.cleanup()
+            reason = exc.strerror or str(exc)
+            raise SpecError(f"cannot write into {_short(text)}: {reason}", path=self.where) from None
         self.refuse_existing(targets)
+
+    def cleanup(self) -> None:
+        """Remove the folders :meth:`prepare` created if the run wrote nothing into them."""
+        for d in reversed(self._created):
+            try:
+                d.rmdir()  # only when empty
+            except OSError:
+                break
+        self._created = []
 
     def refuse_existing(self, paths: list[Path]) -> None:
         if self.force:
@@ -197,6 +220,7 @@ class Outputs:
             for temp, target in self._staged:
                 os.replace(temp, target)
                 done.append(target)
+            self._created = []  # the folders hold the run's files now
         except OSError as exc:
             raise SpecError(f"cannot write {target}: {exc.strerror}", path=self.where) from None
         finally:
@@ -219,6 +243,7 @@ class Outputs:
             self.commit()
         else:
             self.discard()  # also on KeyboardInterrupt: nothing half-written remains
+        self.cleanup()
 
 
 def _short(text: str) -> str:
