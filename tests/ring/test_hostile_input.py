@@ -131,3 +131,23 @@ def test_api_misuse_raises_package_errors(call, cls, pattern):
     with pytest.raises(cls, match=pattern) as info:
         call()
     assert isinstance(info.value, UioRingError)
+
+
+# ---- fuzzing: any text parses or raises ParseError/DomainError, quickly ----------------------
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+PIECES = st.sampled_from(["d", "δ", "(", ")", "+", "-", "*", "/", "**", "^", "[", "]", ",", "1", "0", "9" * 50,
+                          "1e999", "1e-999", "1e99999999", "4096", "(1+d)**4096", "0.5", " ", "x", "sqrt"])
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(PIECES, min_size=1, max_size=400))
+def test_any_text_parses_or_raises_package_errors(pieces):
+    text = "".join(pieces)
+    start = time.perf_counter()
+    try:
+        PolyMatrix(text)
+    except (ParseError, DomainError, DimensionError):
+        pass
+    assert time.perf_counter() - start < 10
