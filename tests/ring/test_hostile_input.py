@@ -12,6 +12,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from uio_ring import PolyMatrix, hermite, is_unimodular, left_kernel, smith, solve_left
 from uio_ring.ring import det, rank
@@ -134,9 +136,6 @@ def test_api_misuse_raises_package_errors(call, cls, pattern):
 
 
 # ---- fuzzing: any text parses or raises ParseError/DomainError, quickly ----------------------
-from hypothesis import given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
-
 PIECES = st.sampled_from(["d", "δ", "(", ")", "+", "-", "*", "/", "**", "^", "[", "]", ",", "1", "0", "9" * 50,
                           "1e999", "1e-999", "1e99999999", "4096", "(1+d)**4096", "0.5", " ", "x", "sqrt"])
 
