@@ -50,3 +50,25 @@ def test_bad_api_input_raises_package_errors(call, cls, pattern):
 def test_numpy_system_matrices_are_read_exactly():
     sys = DelaySystem(np.array([[0.0, 1.0], [-1.0, -0.1]]), np.array([[0.0], [1.0]]), np.eye(2), None)
     assert sys.A == PolyMatrix("[[0, 1], [-1, -1/10]]")
+
+
+MORE = [
+    (lambda: PolyMatrix([[1]]) * np.array([1]), DomainError, r"an array of shape \(1,\) is not a number"),
+    (lambda: PolyMatrix([[np.array([1.0])]]), DomainError, "is not a number"),
+    (lambda: PolyMatrix("d")[0, 0] ** 10**9, DomainError, "MAX_POWER_DEGREE"),
+]
+
+
+@pytest.mark.parametrize("call,cls,pattern", MORE)
+def test_more_api_misuse(call, cls, pattern):
+    with pytest.raises(cls, match=pattern):
+        call()
+
+
+def test_loaders_refuse_non_paths_and_bytes():
+    from uio_ring.errors import SpecError
+    from uio_ring.spec import load_design, load_spec, load_spec_text
+
+    for call in (lambda: load_spec(None), lambda: load_design(3), lambda: load_spec_text(b"system: 1")):
+        with pytest.raises(SpecError):
+            call()

@@ -22,7 +22,10 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring.errors import DomainError
 from uio_ring.ring.parse import _short, canonical_var, decimal_fraction, parse_poly
 
-__all__ = ["Poly", "to_raw", "exact_fraction"]
+__all__ = ["Poly", "to_raw", "exact_fraction", "MAX_POWER_DEGREE"]
+
+#: Largest degree a power ``p**e`` may have (checked before it is computed).
+MAX_POWER_DEGREE = 1_000_000
 
 
 def exact_fraction(value: Any, where: str = "value") -> Fraction:
@@ -60,6 +63,8 @@ def exact_fraction(value: Any, where: str = "value") -> Fraction:
         return bk.to_fraction(p[0]) if not p.is_zero() else Fraction(0)
     module = type(value).__module__
     if module == "numpy" and hasattr(value, "dtype"):
+        if getattr(value, "ndim", 0) != 0:
+            raise DomainError(f"{where}: an array of shape {value.shape} is not a number")
         kind = value.dtype.kind
         if kind in "iu":
             return Fraction(int(value))
@@ -237,8 +242,13 @@ class Poly:
         return self
 
     def __pow__(self, e: int) -> Poly:
-        if not isinstance(e, int) or e < 0:
+        if not isinstance(e, int) or isinstance(e, bool) or e < 0:
             raise DomainError(f"exponent must be a non-negative int, got {e!r}")
+        if self.degree() > 0 and self.degree() * e > MAX_POWER_DEGREE:
+            raise DomainError(
+                f"({self})**{e} would have degree {self.degree() * e}, above {MAX_POWER_DEGREE} "
+                "(uio_ring.ring.poly.MAX_POWER_DEGREE); it would not fit in memory"
+            )
         return Poly._wrap(self._p**e, self.var)
 
     def __floordiv__(self, other: Any) -> Poly:

@@ -42,6 +42,8 @@ _UNSAFE = re.compile(r"[/\\:*?\"<>|\x00-\x1f\x7f]")
 
 def read_text_limited(path: str | Path, *, max_bytes: int, what: str = "spec") -> str:
     """The UTF-8 text of a regular file of at most ``max_bytes`` bytes (else :class:`SpecError`)."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise SpecError(f"expected a file name, got {type(path).__name__}")
     p = Path(path)
     if "\x00" in str(path):
         raise SpecError(f"the file name {str(path)!r} contains a NUL character")

@@ -26,6 +26,7 @@ import re
 from dataclasses import dataclass, field
 from fractions import Fraction
 from importlib import resources
+from os import PathLike
 from pathlib import Path
 from typing import Any
 
@@ -174,6 +175,8 @@ def load_spec(path: str | Path) -> Spec:
     from uio_ring.spec.files import read_text_limited, sanitise_name
     from uio_ring.spec.yaml_io import MAX_BYTES
 
+    if not isinstance(path, (str, PathLike)):
+        raise SpecError(f"expected a file name, got {type(path).__name__}")
     p = Path(path)
     text = read_text_limited(p, max_bytes=MAX_BYTES)
     spec = load_spec_text(text)
@@ -182,6 +185,8 @@ def load_spec(path: str | Path) -> Spec:
 
 def load_spec_text(text: str) -> Spec:
     """Validate a spec given as YAML text."""
+    if not isinstance(text, str):
+        raise SpecError(f"expected the spec's text (str), got {type(text).__name__}; decode bytes as UTF-8 first")
     if "\x00" in text:
         raise SpecError("the text contains NUL bytes; a spec is a YAML file")
     return spec_from_dict(load_yaml_text(text))
