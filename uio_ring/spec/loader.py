@@ -208,6 +208,10 @@ def spec_from_dict(data: Any) -> Spec:
                 for key in system[k]:
                     _delay_power(key, f"system.{k}")
     _check_name_lists(data.get("system"))
+    if isinstance(data.get("name"), str):  # before the schema's terser pattern message
+        from uio_ring.spec.files import safe_name
+
+        safe_name(data["name"], "name")
     _validate_schema(data, sch)
     system = _read_system(data["system"])
     design = _read_design(data.get("design") or {})
