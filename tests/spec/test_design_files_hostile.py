@@ -46,6 +46,8 @@ EDITS = [
     ("deep parentheses", lambda d: _edit(d, "L0", {"$matrix": [["(" * 5000 + "1" + ")" * 5000, "0"], ["0", "-2"]],
                                                    "shape": [2, 2]}), r"fields\.L0: .*nested deeper"),
     ("r is text", lambda d: _edit(d, "r", "two"), r"fields\.r: str 'two' where int is expected"),
+    ("r is a float", lambda d: _edit(d, "r", 1.5), r"fields\.r: float '1\.5' where int is expected"),
+    ("a pole is a float", lambda d: _edit(d, "poles", {"$tuple": [-2.0]}), r"fields\.poles\[0\]: float '-2\.0' where Fraction"),
     ("poles is a number", lambda d: _edit(d, "poles", {"$q": "-2"}), r"fields\.poles: .*where tuple"),
     ("unknown record", lambda d: _edit(d, "system", {"$dataclass": "os.system", "fields": {}}), r"unknown record type"),
     ("a field missing", lambda d: {**d, "fields": {k: v for k, v in d["fields"].items() if k != "H"}}, r"has no field 'H'"),
@@ -80,9 +82,9 @@ def test_untouched_files_load_equal(saved, tmp_path):
 
 
 RAW = [
-    ('{"uio_ring_design": 1, "method": "zheng-bejarano", "fields": {"r": 1.5}}', r"not exact"),
+    ('{"uio_ring_design": 1, "method": "zheng-bejarano", "fields": {"r": 1.5}}', r"has no field|float"),
     ('{"uio_ring_design": 1, "x": ' + "9" * 5000 + "}", r"integer of 5000 digits"),
-    ('{"a": NaN}', r"not exact"),
+    ('{"a": NaN}', r"not a uio_ring design file"),
     ("[" * 100_000 + "]" * 100_000, r"nested too deeply|not a uio_ring design"),
     ("{not json", r"not valid JSON"),
     ('{"uio_ring_design": 1, "method": "nope"}', r"unknown design method"),
