@@ -381,7 +381,8 @@ def test_random_specs_inside_the_limits_finish(tmp_path, capsys, text, command):
 
 
 CALCULATOR = [
-    ("[[(1+d)**4096, 1], [d**4095, 1]]", "degree 4096, above the limit 64"),
+    ("[[(1+d)**4096, 1], [d**4095, 1]]", "degree 4096, above the limit 16"),
+    ("[[d**17]]", "degree 17, above the limit 16"),
     ("[[" + ", ".join(["1"] * 17) + "]]", "at most 16×16"),
     ("[[1e99999999]]", "more than 1000 digits"),
     ("[[" + "(" * 5000 + "d" + ")" * 5000 + "]]", "nested deeper than 100"),

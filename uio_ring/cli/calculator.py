@@ -16,8 +16,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-#: Largest degree accepted by the calculator (entries and every intermediate result).
-MAX_DEGREE = 64
+#: Largest degree accepted by the calculator (entries and every intermediate result), as in specs.
+MAX_DEGREE = 16
 #: Most rows or columns accepted by the calculator.
 MAX_SIZE = 16
 
