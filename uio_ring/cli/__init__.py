@@ -94,14 +94,6 @@ def _dispatch(argv: Sequence[str] | None) -> int:
     except KeyboardInterrupt as exc:
         _report(exc, args.debug, "uio-ring: interrupted")
         return 130
-    except BrokenPipeError:  # the reader went away (uio-ring … | head): stop quietly
-        import os
-
-        try:
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        except (OSError, ValueError):
-            pass
-        return 1
 
 
 def _one_line(text: str, limit: int = 500) -> str:
