@@ -123,7 +123,7 @@ def test_negative_input_bound_names_its_path(tmp_path, capsys):
     [("double_integrator_fails.yaml", 1), ("zheng2015.yaml", 0)],
 )
 def test_debug_does_not_change_the_exit_code(spec, code, tmp_path, capsys):
-    args = ["design", str(EXAMPLES / spec), "--out", str(tmp_path)]
+    args = ["design", str(EXAMPLES / spec), "--out", str(tmp_path), "--force"]  # the second run replaces the files
     assert main(args) == code
     assert main(["--debug", *args]) == code
 
