@@ -415,3 +415,31 @@ def test_folders_made_for_a_run_that_writes_nothing_are_removed(work, capsys):
     code, _, _ = run(capsys, "design", "spec.yaml", "--out", "a/b/c", "--latex", "x/y/d.tex")
     assert code == 1
     assert not (work / "a").exists() and not (work / "x").exists()
+
+
+EXAMPLES_DIR = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.mark.parametrize("poles", ["[-1e-6, -25, -50]", "[-1e-300, -25, -50]", "[-1e999, -25, -50]"])
+def test_extreme_poles_design_exactly_and_skip_the_float_figures(work, capsys, poles):
+    """Exact designs whose float image overflows, or whose figures would need 10^10 grid points:
+    the design is written, the figures say why they are missing, nothing hangs or allocates terabytes."""
+    text = (EXAMPLES_DIR / "zheng2015.yaml").read_text(encoding="utf-8")
+    (work / "spec.yaml").write_text(text.replace("poles: [-10, -25, -50]", f"poles: {poles}"), encoding="utf-8")
+    start = time.perf_counter()
+    code, out, err = run(capsys, "design", "spec.yaml", "--out", "out")
+    assert time.perf_counter() - start < 60
+    assert code == 0, err
+    assert "performance: not computed" in out
+    import json
+
+    data = json.loads((work / "out" / "zheng2015.json").read_text(encoding="utf-8"))
+    assert "not_computed" in data["performance_derived"]
+
+
+@pytest.mark.parametrize("rate", ["1e300", "1e999"])
+def test_a_rate_beyond_float64_names_the_design_section(work, capsys, rate):
+    text = (EXAMPLES_DIR / "zheng2015_min_noise.yaml").read_text(encoding="utf-8")
+    text = "\n".join(f"  rate: {rate}" if line.startswith("  rate:") else line for line in text.splitlines()) + "\n"
+    err = refuse(work, capsys, text, "design: a coefficient")
+    assert "beyond float64" in err

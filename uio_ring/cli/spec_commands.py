@@ -162,14 +162,14 @@ def _delay_text(system: Any) -> str:
 
 def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
     from uio_ring.design.methods import design_auto, design_with
-    from uio_ring.errors import DimensionError, DomainError, SpecError
+    from uio_ring.errors import DimensionError, DomainError, SimulationError, SpecError
 
     try:
         if spec.design.method == "auto":
             res = design_auto(spec.system, **spec.design.options)
             return res.design, res.method, res.skipped
         return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
-    except (DimensionError, DomainError) as exc:  # an option of the spec's design section does not fit
+    except (DimensionError, DomainError, SimulationError) as exc:  # an option of the design section does not fit
         raise SpecError(str(exc), path="design") from exc
 
 

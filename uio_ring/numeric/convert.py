@@ -64,10 +64,21 @@ def _from_lists(M: Any) -> np.ndarray:
     for k, coeff in enumerate(lists):
         for i, row in enumerate(coeff):
             for j, c in enumerate(row):
-                arr[k, i, j] = float(c)
+                try:
+                    arr[k, i, j] = float(c)
+                except OverflowError:  # an exact coefficient beyond float64: say so, once
+                    raise SimulationError(
+                        f"a coefficient of δ^{k} at ({i}, {j}) has magnitude about 10^{_log10(c)}, beyond float64 "
+                        "(about 1.8e308): the exact design is fine but has no float image"
+                    ) from None
     out = _trim(arr, "matrix")
     out.setflags(write=False)
     return out
+
+
+def _log10(c: Any) -> int:
+    """Decimal exponent of a Fraction, from bit lengths (its text may exceed Python's 4300 digits)."""
+    return int((abs(c.numerator).bit_length() - c.denominator.bit_length()) * 0.30103)
 
 
 def _trim(arr: np.ndarray, name: str) -> np.ndarray:

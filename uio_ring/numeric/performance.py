@@ -168,6 +168,10 @@ def _integrals(model: ObserverModel, step: float, horizon: float) -> tuple[np.nd
     return l1, l2
 
 
+#: Most grid points one integral of :func:`performance` may use (checked before allocating).
+MAX_GRID_POINTS = 2_000_000
+
+
 def performance(model: ObserverModel, *, tolerance: float = 1e-3, rtol: float = 1e-3) -> ObserverPerformance:
     """The figures of a linear observer model (see :class:`ObserverPerformance`).
 
@@ -190,12 +194,19 @@ def performance(model: ObserverModel, *, tolerance: float = 1e-3, rtol: float = 
     step = min(0.1 / fastest, horizon / 200)
     if h is not None:
         step = h / max(1, math.ceil(h / step))
+    if horizon / step > MAX_GRID_POINTS:  # bounded before any array is allocated
+        raise SimulationError(
+            f"performance: the observer's modes span decay rates {rate:.3g} … {fastest:.3g} per second; the figures "
+            f"would need {horizon / step:.3g} grid points (limit {MAX_GRID_POINTS:.0e}), so they are not computed"
+        )
     dirac = _dirac_weight(model)
     # trapezoid on grids of step Δ and Δ/2, Richardson-extrapolated (error O(Δ⁴) for a smooth
     # |K|; kinks where K changes sign leave O(Δ²)); halve until the figure settles
     l1c, l2c = _integrals(model, step, horizon)
     P = l1c + dirac
     for _ in range(6):
+        if 2 * horizon / step > MAX_GRID_POINTS:
+            break  # the finest grid the budget allows
         step /= 2
         l1f, l2f = _integrals(model, step, horizon)
         l1, l2 = l1f + (l1f - l1c) / 3, l2f + (l2f - l2c) / 3

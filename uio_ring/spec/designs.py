@@ -94,8 +94,11 @@ def design_to_data(design: Any) -> dict[str, Any]:
     arrays per power of δ) for other tools.  ``numeric_derived`` is derived from the exact
     fields and ignored on loading: the exact fields are the design."""
     fields = {f.name: _encode(getattr(design, f.name)) for f in dataclasses.fields(design) if f.compare}
-    out = {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict(),
-           "numeric_derived": design.numeric().to_dict()}
+    out = {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict()}
+    try:
+        out["numeric_derived"] = design.numeric().to_dict()
+    except UioRingError as exc:  # e.g. exact coefficients beyond float64: the exact fields are still the design
+        out["numeric_derived"] = {"not_computed": str(exc)}
     try:
         out["performance_derived"] = design.performance().to_dict()
     except UioRingError as exc:  # nonlinear observer, or delays without h: say why
@@ -115,7 +118,10 @@ def load_observer_model(path: str | Path) -> Any:
     if not isinstance(data, dict) or "numeric_derived" not in data:
         raise SpecError("the design file has no 'numeric_derived' section (written by an older uio_ring?)",
                         path="numeric_derived")
-    return ObserverModel.from_dict(data["numeric_derived"])
+    numeric = data["numeric_derived"]
+    if isinstance(numeric, dict) and "not_computed" in numeric:
+        raise SpecError(f"the design has no float model: {numeric['not_computed']}", path="numeric_derived")
+    return ObserverModel.from_dict(numeric)
 
 
 def _decode(value: Any, where: str, helpers: dict[str, type]) -> Any:
