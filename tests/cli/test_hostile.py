@@ -443,3 +443,9 @@ def test_a_rate_beyond_float64_names_the_design_section(work, capsys, rate):
     text = "\n".join(f"  rate: {rate}" if line.startswith("  rate:") else line for line in text.splitlines()) + "\n"
     err = refuse(work, capsys, text, "design: a coefficient")
     assert "beyond float64" in err
+
+
+def test_input_bounds_beyond_float64_name_the_design_section(work, capsys):
+    text = (EXAMPLES_DIR / "aircraft_normal_form.yaml").read_text(encoding="utf-8")
+    err = refuse(work, capsys, text.replace("input_bounds: [0.02]", "input_bounds: [1e999]"), "design: L is beyond 1e300")
+    assert "float64" in err

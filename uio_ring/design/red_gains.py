@@ -75,6 +75,8 @@ def levant_gains(mu: int, L: Any, *, lambdas: Sequence[Any] | None = None, digit
     Lf = exact_fraction(L, "L")
     if Lf <= 0:
         raise DomainError(f"L = {Lf} must be positive")
+    if Lf > 10**300:  # the gains go through float powers
+        raise DomainError("L is beyond 1e300: Levant's gains L^(j/μ) are computed in float64; give smaller input bounds")
     lam = tuple(exact_fraction(x, f"lambdas[{i}]") for i, x in enumerate(LEVANT_LAMBDAS if lambdas is None else lambdas))
     if len(lam) < mu:
         raise DomainError(
