@@ -449,3 +449,13 @@ def test_input_bounds_beyond_float64_name_the_design_section(work, capsys):
     text = (EXAMPLES_DIR / "aircraft_normal_form.yaml").read_text(encoding="utf-8")
     err = refuse(work, capsys, text.replace("input_bounds: [0.02]", "input_bounds: [1e999]"), "design: L is beyond 1e300")
     assert "float64" in err
+
+
+def test_sta_gains_beyond_float64(work, capsys):
+    text = (EXAMPLES_DIR / "bejarano2007_example1.yaml").read_text(encoding="utf-8")
+    text = text.replace("gains: [[15, 10], [20, 10]]", "gains: [[1e999, 10], [20, 10]]").replace("t_final: 10", "t_final: 2.5")
+    err = refuse(work, capsys, text, "simulate: gain 0.0 has magnitude about 10^999", "simulate")
+    assert "beyond float64" in err
+    (work / "spec.yaml").write_text(text, encoding="utf-8")
+    code, _, err = run(capsys, "design", "spec.yaml", "--out", "out")  # the exact design is fine
+    assert code == 0, err

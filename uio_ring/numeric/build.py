@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from uio_ring.errors import SimulationError
-from uio_ring.numeric.convert import coefficient_arrays
+from uio_ring.numeric.convert import coefficient_arrays, exact_to_float
 from uio_ring.numeric.model import HeldInput, LevantInjection, ObserverModel
 
 __all__ = ["model_from_exact", "constant_array", "injection_from_exact", "held_input_from_exact"]
@@ -65,7 +65,7 @@ def injection_from_exact(*, starts: tuple[int, ...], lengths: tuple[int, ...], g
     """:class:`LevantInjection` from exact gains and constant exact σ maps."""
     return LevantInjection(
         starts=tuple(starts), lengths=tuple(lengths),
-        gains=tuple(tuple(float(k) for k in ks) for ks in gains),
+        gains=tuple(tuple(exact_to_float(k, f"gain {i}.{j}") for j, k in enumerate(ks)) for i, ks in enumerate(gains)),
         sigma_y=constant_array(sigma_y, "sigma_y"), sigma_u=constant_array(sigma_u, "sigma_u"),
         discretisation=discretisation, sigma_xi=None if sigma_xi is None else constant_array(sigma_xi, "sigma_xi"),
     )

@@ -13,7 +13,7 @@ import numpy as np
 
 from uio_ring.errors import SimulationError
 
-__all__ = ["coefficient_arrays", "poly_matmul", "eval_at_one"]
+__all__ = ["coefficient_arrays", "poly_matmul", "eval_at_one", "exact_to_float"]
 
 
 def coefficient_arrays(M: Any, *, name: str = "matrix") -> np.ndarray:
@@ -64,21 +64,26 @@ def _from_lists(M: Any) -> np.ndarray:
     for k, coeff in enumerate(lists):
         for i, row in enumerate(coeff):
             for j, c in enumerate(row):
-                try:
-                    arr[k, i, j] = float(c)
-                except OverflowError:  # an exact coefficient beyond float64: say so, once
-                    raise SimulationError(
-                        f"a coefficient of δ^{k} at ({i}, {j}) has magnitude about 10^{_log10(c)}, beyond float64 "
-                        "(about 1.8e308): the exact design is fine but has no float image"
-                    ) from None
+                arr[k, i, j] = exact_to_float(c, f"a coefficient of δ^{k} at ({i}, {j})")
     out = _trim(arr, "matrix")
     out.setflags(write=False)
     return out
 
 
+def exact_to_float(x: Any, what: str) -> float:
+    """``float(x)`` for an exact number, or :class:`SimulationError` when float64 cannot hold it."""
+    try:
+        return float(x)
+    except OverflowError:
+        raise SimulationError(
+            f"{what} has magnitude about 10^{_log10(x)}, beyond float64 (about 1.8e308): "
+            "the exact design is fine but has no float image"
+        ) from None
+
+
 def _log10(c: Any) -> int:
     """Decimal exponent of a Fraction, from bit lengths (its text may exceed Python's 4300 digits)."""
-    return int((abs(c.numerator).bit_length() - c.denominator.bit_length()) * 0.30103)
+    return round((abs(c.numerator).bit_length() - c.denominator.bit_length()) * 0.30103)
 
 
 def _trim(arr: np.ndarray, name: str) -> np.ndarray:
