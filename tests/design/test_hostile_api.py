@@ -72,3 +72,13 @@ def test_loaders_refuse_non_paths_and_bytes():
     for call in (lambda: load_spec(None), lambda: load_design(3), lambda: load_spec_text(b"system: 1")):
         with pytest.raises(SpecError):
             call()
+
+
+@pytest.mark.parametrize("h", ["1e99999999", Fraction(10**400)], ids=["huge text", "huge Fraction"])
+def test_simulation_numbers_are_bounded_before_use(h):
+    from uio_ring.errors import SimulationError
+    from uio_ring.sim import simulate_observer
+
+    sys = DelaySystem("[[0, 1], [-1, -d]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None, h="0.1")
+    with pytest.raises(SimulationError, match="digits|beyond float64"):
+        simulate_observer(design_zheng_bejarano(sys, poles=[-2]), sys, h=h, t_final=1, dt=0.1)

@@ -11,7 +11,6 @@ results here; this is the one place where they become float64.
 
 from __future__ import annotations
 
-from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -39,7 +38,9 @@ def constant_array(M: Any, name: str) -> np.ndarray:
 def _h(h: Any) -> float | None:
     if h is None:
         return None
-    return float(Fraction(h) if isinstance(h, str) else h)
+    from uio_ring.numeric.grid import as_float
+
+    return as_float(h, "h")
 
 
 def model_from_exact(*, F: Any, G_y: Any, X: Any, G_u: Any = None, D_y: Any = None, D_u: Any = None,

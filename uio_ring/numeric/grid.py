@@ -13,13 +13,26 @@ __all__ = ["as_float", "steps_per_delay", "step_count"]
 
 def as_float(value: Any, name: str) -> float:
     """A positive finite float from an int, float, Fraction or decimal string."""
+    from uio_ring.errors import UioRingError
+
     try:
-        v = float(Fraction(value) if isinstance(value, str) else value)
+        v = float(_exact_text(value, name) if isinstance(value, str) else value)
+    except UioRingError as exc:  # decimal text refused before it was built
+        raise SimulationError(str(exc)) from None
     except (TypeError, ValueError, ZeroDivisionError) as exc:
-        raise SimulationError(f"{name}={value!r} is not a number") from exc
+        raise SimulationError(f"{name}={str(value)[:40]!r} is not a number") from exc
+    except OverflowError:
+        raise SimulationError(f"{name} is beyond float64 (about 1.8e308)") from None
     if not math.isfinite(v) or v <= 0:
         raise SimulationError(f"{name}={value!r} must be a positive finite number")
     return v
+
+
+def _exact_text(text: str, name: str) -> Fraction:
+    """Decimal text read exactly and bounded before it is built (``"1e99999999"`` is refused)."""
+    from uio_ring.ring.parse import decimal_fraction
+
+    return decimal_fraction(text, name)
 
 
 def steps_per_delay(h: float, dt: float) -> int:
