@@ -459,3 +459,13 @@ def test_sta_gains_beyond_float64(work, capsys):
     (work / "spec.yaml").write_text(text, encoding="utf-8")
     code, _, err = run(capsys, "design", "spec.yaml", "--out", "out")  # the exact design is fine
     assert code == 0, err
+
+
+@pytest.mark.parametrize("extra", [("--out", "."), ("--out", ".", "--latex", "spec.yaml")], ids=["out", "latex"])
+def test_outputs_never_replace_the_spec_itself_even_with_force(work, capsys, extra):
+    text = spec(top="name: spec\n")  # outputs spec.json, spec.yaml: the latter is the spec file
+    (work / "spec.yaml").write_text(text, encoding="utf-8")
+    code, _, err = run(capsys, "design", "spec.yaml", *extra, "--force")
+    assert_refused(code, err, extra[-2])
+    assert "is the spec file itself" in err
+    assert (work / "spec.yaml").read_text(encoding="utf-8") == text

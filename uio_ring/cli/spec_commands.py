@@ -94,8 +94,28 @@ def _outputs(args: argparse.Namespace, spec: Any, suffixes: list[str], extra: li
     where = "--out" if args.out is not None else ("output.directory" if spec.output.directory else None)
     out = Outputs(_out_dir(args, spec), force=args.force, where=where)
     stem = out.folder / (spec.name or "design")
-    out.prepare([stem.with_suffix(s) for s in suffixes] + list(extra))
+    targets = [stem.with_suffix(s) for s in suffixes] + list(extra)
+    _never_the_spec(spec, targets, where)
+    out.prepare(targets)
     return out, stem
+
+
+def _never_the_spec(spec: Any, targets: list[Path], where: str | None) -> None:
+    """No output may replace the spec file itself, not even with --force."""
+    import os
+
+    from uio_ring.errors import SpecError
+
+    if not spec.source:
+        return
+    source = Path(spec.source)
+    for target in targets:
+        try:
+            same = target.exists() and os.path.samefile(target, source)
+        except OSError:
+            same = False
+        if same:
+            raise SpecError(f"{target} is the spec file itself; choose another --out or name", path=where)
 
 
 def _latex_target(args: argparse.Namespace) -> Path | None:
@@ -218,6 +238,8 @@ def _run_design(args: argparse.Namespace) -> int:
     formats = [f for f in (spec.output.formats or ("json", "yaml")) if f in ("json", "yaml", "latex")]
     suffixes = {"json": ".json", "yaml": ".yaml", "latex": ".tex"}
     latex = _latex_target(args)
+    if latex is not None:
+        _never_the_spec(spec, [latex], "--latex")
     out, stem = _outputs(args, spec, [suffixes[f] for f in formats])  # before any work
     try:
         return _design_and_write(args, spec, out, stem, formats, latex)
