@@ -32,7 +32,7 @@ from typing import Any
 
 from uio_ring.errors import SpecError
 
-__all__ = ["read_text_limited", "safe_name", "Outputs", "MAX_NAME"]
+__all__ = ["read_text_limited", "safe_name", "sanitise_name", "Outputs", "MAX_NAME"]
 
 #: Longest name (spec ``name``, file stem) accepted.
 MAX_NAME = 100
