@@ -18,7 +18,7 @@ import flint
 
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
-from uio_ring.ring.rank import det_raw
+from uio_ring.ring._predicates import det_raw
 
 __all__ = ["degree_reduced"]
 

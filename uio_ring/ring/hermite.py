@@ -18,101 +18,17 @@ Normalisation (row-wise)
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
-from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._echelon import normalise, reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
+from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring._predicates import is_hermite_raw, is_unimodular_raw
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
-from uio_ring.ring.matrix import require_matrix
-
-if TYPE_CHECKING:
-    from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix
 
 __all__ = ["HermiteResult", "hermite", "is_hermite", "row_echelon", "reduce_transform"]
-
-
-def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int) -> list[int]:
-    """Row echelon form of ``a`` in place (unimodular row operations, mirrored on ``u``).
-
-    Returns the pivot columns; rows ``0..len(pivots)-1`` are nonzero, the others
-    zero.  Pivots are not yet monic and entries above them are not reduced.
-
-    Algorithm: column by column, a Euclidean reduction over all candidate rows:
-    the row whose entry has the least degree (ties: least row degree) is the
-    pivot and the others are reduced by their quotient, until one nonzero entry
-    is left.  Precondition: ``u`` has m rows (not checked).
-    """
-    r = 0
-    pivots: list[int] = []
-    for j in range(n):
-        if r == m:
-            break
-        # Loop invariant: rows r.. are zero in columns < j.
-        while True:
-            nz = [i for i in range(r, m) if not a[i][j].is_zero()]
-            if len(nz) <= 1:
-                break
-            p = min(nz, key=lambda i: (a[i][j].degree(), dn.row_degree(a[i]), i))
-            pj = a[p][j]
-            for i in nz:
-                if i == p:
-                    continue
-                q = a[i][j] // pj
-                dn.row_axpy(a, i, q, p, j)
-                if u is not None:
-                    dn.row_axpy(u, i, q, p)
-        if not nz:
-            continue
-        p = nz[0]
-        if p != r:
-            a[p], a[r] = a[r], a[p]
-            if u is not None:
-                u[p], u[r] = u[r], u[p]
-        pivots.append(j)
-        r += 1
-    return pivots
-
-
-def _normalise(a: dn.Rows, u: dn.Rows | None, pivots: list[int]) -> None:
-    """Monic pivots and reduced entries above them, in place.
-    Precondition: ``a`` is in row echelon form with the given pivots."""
-    for k, j in enumerate(pivots):
-        c = bk.lc(a[k][j])
-        if c != 1:
-            inv = bk.const(1) / c
-            a[k] = [x * inv for x in a[k]]
-            if u is not None:
-                u[k] = [x * inv for x in u[k]]
-    for k, j in enumerate(pivots):
-        piv = a[k][j]
-        dp = piv.degree()
-        for i in range(k):
-            if a[i][j].degree() >= dp:
-                q = a[i][j] // piv
-                dn.row_axpy(a, i, q, k, j)
-                if u is not None:
-                    dn.row_axpy(u, i, q, k)
-
-
-def reduce_transform(u: dn.Rows, r: int) -> None:
-    """Lower the degree of a transform whose rows ``r:`` span a left kernel, in place.
-
-    The kernel rows are brought to Popov form (a minimal, row-reduced basis) and the
-    rows ``:r`` are reduced modulo them; neither changes ``u @ M``.
-    Precondition: rows ``r:`` of ``u`` are linearly independent.
-    """
-    if r >= len(u):
-        return
-    kern = u[r:]
-    dn.weak_popov(kern)
-    dn.popov(kern)
-    u[r:] = kern
-    pivots = [dn.leading_position(row)[::-1] for row in kern]
-    top = u[:r]
-    dn.reduce_rows(top, range(r), pivots, basis=kern)
-    u[:r] = top
 
 
 @dataclass(frozen=True, eq=False)
@@ -138,14 +54,12 @@ class HermiteResult:
 
     def verify(self, M: PolyMatrix) -> Certificate:
         """Exact certificate: ``U @ M == H``, U unimodular, H normalised."""
-        from uio_ring.ring.inverse import is_unimodular
-
         res = self.U @ M - self.H
         return Certificate(
             "Hermite form",
             [
                 Check("U @ M == H", res.is_zero(), None if res.is_zero() else res, "U M = H"),
-                Check("U unimodular", is_unimodular(self.U), None, "det U is a nonzero constant"),
+                Check("U unimodular", is_unimodular_raw(self.U._r, *self.U.shape), None, "det U is a nonzero constant"),
                 Check("H normalised", is_hermite(self.H), None, "normalised row Hermite form"),
             ],
         )
@@ -201,9 +115,6 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     --------
     is_hermite, uio_ring.ring.smith.smith
     """
-    M = require_matrix(M, "hermite")
-    from uio_ring.ring.matrix import PolyMatrix
-
     m, n = M.shape
     var = M.var
     if m == n >= GENERIC_MIN_SIZE:
@@ -227,15 +138,14 @@ def hermite(M: PolyMatrix) -> HermiteResult:
 def hermite_by_elimination(M: PolyMatrix) -> HermiteResult:
     """:func:`hermite` without the generic fast path (for any shape; used for testing
     the two paths against each other)."""
-    from uio_ring.ring.matrix import PolyMatrix
-
     m, n = M.shape
     var = M.var
     a = dn.copy(M._r)
     u = dn.identity(m)
     pivots = row_echelon(a, u, m, n)
-    _normalise(a, u, pivots)
-    reduce_transform(u, len(pivots))
+    normalise(a, u, pivots)
+    r = len(pivots)
+    reduce_transform(u, r, popov_left_kernel(M._r, m, n) if r < m else None)
     return HermiteResult(
         H=PolyMatrix._new(a, m, n, var),
         U=PolyMatrix._new(u, m, m, var),
@@ -251,24 +161,4 @@ def is_hermite(H: PolyMatrix) -> bool:
     >>> is_hermite(PolyMatrix("[[1, d], [0, d**2]]")), is_hermite(PolyMatrix("[[0, 1], [1, 0]]"))
     (True, False)
     """
-    H = require_matrix(H, "is_hermite")
-    last = -1
-    seen_zero = False
-    pivots: list[tuple[int, int]] = []
-    for k, row in enumerate(H._r):
-        j = next((c for c, p in enumerate(row) if not p.is_zero()), None)
-        if j is None:
-            seen_zero = True
-            continue
-        if seen_zero or j <= last:
-            return False
-        if bk.lc(row[j]) != 1:
-            return False
-        pivots.append((k, j))
-        last = j
-    for k, j in pivots:
-        dp = H._r[k][j].degree()
-        for i in range(H.rows):
-            if i != k and H._r[i][j].degree() >= (dp if i < k else 0):
-                return False
-    return True
+    return is_hermite_raw(H._r, H.rows)

@@ -14,26 +14,21 @@ for every complex δ).  *Right unimodular*: the same for the transpose.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._echelon import reduce_transform, row_echelon
+from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring._predicates import is_unimodular_raw
 from uio_ring.ring.errors import NotUnimodularError
-from uio_ring.ring.hermite import reduce_transform, row_echelon
-from uio_ring.ring.matrix import require_matrix
-
-if TYPE_CHECKING:
-    from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.smith import invariant_factors
 
 __all__ = ["is_unimodular", "is_left_unimodular", "is_right_unimodular", "left_inverse", "right_inverse"]
 
 
 def is_unimodular(M: PolyMatrix) -> bool:
     """Square with determinant a nonzero constant (0×0 counts)."""
-    M = require_matrix(M, "is_unimodular")
-    if M.rows != M.cols:
-        return False
-    return M.det().degree() == 0
+    return is_unimodular_raw(M._r, *M.shape)
 
 
 def _echelon_unit_pivots(M: PolyMatrix, u: dn.Rows | None) -> tuple[dn.Rows, list[int], bool]:
@@ -80,9 +75,6 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     >>> left_inverse(PolyMatrix("[[1, d], [0, 1]]"))
     PolyMatrix([[1, -d], [0, 1]])
     """
-    M = require_matrix(M, "left_inverse")
-    from uio_ring.ring.matrix import PolyMatrix
-
     m, n = M.shape
     u = dn.identity(m)
     a, pivots, units = _echelon_unit_pivots(M, u)
@@ -91,8 +83,6 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
             f"the {m}×{n} matrix has rank {len(pivots)} < {n} columns: no left inverse exists"
         )
     if not units:
-        from uio_ring.ring.smith import invariant_factors
-
         bad = [f for f in invariant_factors(M) if f.degree() > 0]
         raise NotUnimodularError(
             f"the {m}×{n} matrix is not left unimodular: its invariant factor(s) "
@@ -109,7 +99,7 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
             if not q.is_zero():
                 dn.row_axpy(a, i, q, k)
                 dn.row_axpy(u, i, q, k)
-    reduce_transform(u, n)
+    reduce_transform(u, n, popov_left_kernel(M._r, m, n) if n < m else None)
     return PolyMatrix._new(u[:n], n, m, M.var)
 
 

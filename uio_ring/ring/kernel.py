@@ -15,14 +15,10 @@ polynomial right inverse.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from uio_ring.ring import _dense as dn
-from uio_ring.ring.hermite import reduce_transform, row_echelon
-from uio_ring.ring.matrix import require_matrix
-
-if TYPE_CHECKING:
-    from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring._echelon import reduce_transform, row_echelon
+from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring.matrix import PolyMatrix
 
 __all__ = ["left_kernel", "right_kernel"]
 
@@ -32,11 +28,18 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
 
     Shape ``(M.rows − rank M) × M.rows``; a ``0 × M.rows`` matrix when M has full
     row rank.
-    """
-    M = require_matrix(M, "left_kernel")
-    from uio_ring.ring.matrix import PolyMatrix
 
+    Algorithm: the reduced echelon basis of one block-Toeplitz nullspace over Z
+    (:mod:`uio_ring.ring._kernel_basis`: Forney's minimal bases as a Gröbner basis
+    for the (degree, position) order; O(N³) word operations per prime, N = m·(D+1),
+    D the largest minimal index).  Beyond ``MAX_UNKNOWNS`` unknowns: Euclidean
+    elimination with a unimodular transform, then the Mulders–Storjohann weak Popov
+    form and Popov normalisation of its kernel rows.
+    """
     m, n = M.shape
+    fast = popov_left_kernel(M._r, m, n)
+    if fast is not None:
+        return PolyMatrix._new(fast, len(fast), m, M.var)
     a = dn.copy(M._r)
     u = dn.identity(m)
     r = len(row_echelon(a, u, m, n))

@@ -28,6 +28,7 @@ import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._predicates import det_raw, rank_raw
 from uio_ring.ring.errors import DimensionError, DomainError
 from uio_ring.ring.parse import canonical_var, parse_matrix
 from uio_ring.ring.poly import Poly, exact_fraction, to_raw
@@ -308,15 +309,13 @@ class PolyMatrix:
     # -- algebra delegated to algorithm modules ---------------------------------------
     def det(self) -> Poly:
         """Determinant over Q[δ] (square matrices)."""
-        from uio_ring.ring.rank import det
-
-        return det(self)
+        if self._m != self._n:
+            raise DimensionError(f"det needs a square matrix; this one is {self._m}×{self._n}")
+        return Poly._wrap(det_raw(self._r, self._n), self.var)
 
     def rank(self) -> int:
         """Rank over Q[δ] (equivalently over the fraction field Q(δ))."""
-        from uio_ring.ring.rank import rank
-
-        return rank(self)
+        return rank_raw(self._r, self._m, self._n)
 
     # -- indexing -------------------------------------------------------------------
     def __getitem__(self, key: Any) -> Any:

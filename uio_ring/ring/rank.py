@@ -21,46 +21,17 @@ d**2 + 1
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-import flint
-
-from uio_ring.ring import _backend as bk
-from uio_ring.ring import _dense as dn
-from uio_ring.ring import _evaluation as ev
+from uio_ring.ring._predicates import det_raw, rank_raw
 from uio_ring.ring.errors import DimensionError
-from uio_ring.ring.matrix import require_matrix
+from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import Poly
-
-if TYPE_CHECKING:
-    from uio_ring.ring.matrix import PolyMatrix
 
 __all__ = ["rank", "det", "det_raw"]
 
 
 def rank(M: PolyMatrix) -> int:
-    """Rank of M over Q[δ] (deterministic, exact)."""
-    M = require_matrix(M, "rank")
-    m, n = M.shape
-    if m == 0 or n == 0 or M.is_zero():
-        return 0
-    a = M._r
-    coeffs = ev.coefficient_mats(a, m, n)
-    top = min(m, n)
-    best = 0
-    needed = ev.minor_degree_bound(a, m, n, 1) + 1
-    used = 0
-    for x in ev.points():
-        r = bk.mat_rank(ev.evaluate(coeffs, x))
-        used += 1
-        if r > best:
-            best = r
-            if best == top:
-                return best
-            needed = ev.minor_degree_bound(a, m, n, best + 1) + 1
-        if used >= needed:
-            return best
-    raise AssertionError("unreachable")  # pragma: no cover
+    """Rank of M over Q[δ] (deterministic, exact; see :func:`~uio_ring.ring._predicates.rank_raw`)."""
+    return rank_raw(M._r, *M.shape)
 
 
 def det(M: PolyMatrix) -> Poly:
@@ -70,19 +41,3 @@ def det(M: PolyMatrix) -> Poly:
     if m != n:
         raise DimensionError(f"det needs a square matrix; this one is {m}×{n}")
     return Poly._wrap(det_raw(M._r, n), M.var)
-
-
-def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
-    """Determinant of the n×n rows ``a`` (precondition: square, not checked)."""
-    if n == 0:
-        return bk.ONE
-    m = n
-    coeffs = ev.coefficient_mats(a, m, n)
-    bound = ev.minor_degree_bound(a, m, n, n)
-    xs, ys = [], []
-    for x in ev.points():
-        xs.append(x)
-        ys.append(bk.mat_det(ev.evaluate(coeffs, x)))
-        if len(xs) > bound:
-            break
-    return ev.interpolate_columns(flint.fmpq_mat(len(ys), 1, ys))[0]

@@ -19,17 +19,14 @@ is reduced modulo a Popov basis of the left kernel of V (low δ-degree).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._division import reduce_modulo_popov
+from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
+from uio_ring.ring._kernel_basis import popov_left_kernel
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
-from uio_ring.ring.hermite import reduce_transform, row_echelon
-from uio_ring.ring.matrix import require_matrix
-
-if TYPE_CHECKING:
-    from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix
 
 __all__ = ["solve_left", "solve_right"]
 
@@ -58,10 +55,6 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         No polynomial X exists (the message names the row of W and whether the
         obstruction is rank or divisibility).
     """
-    V = require_matrix(V, "solve_left")
-    W = require_matrix(W, "solve_left")
-    from uio_ring.ring.matrix import PolyMatrix
-
     V._check("solve_left", W)
     k, n = V.shape
     m, n2 = W.shape
@@ -83,7 +76,7 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
     u = dn.identity(k)
     pivots = row_echelon(a, u, k, n)
     r = len(pivots)
-    reduce_transform(u, r)
+    reduce_transform(u, r, popov_left_kernel(V._r, k, n) if r < k else None)
     # the kernel rows of u are untouched by the echelon rows: a[:r] still equals u[:r] @ V
     y = []
     for i in range(m):
@@ -110,9 +103,7 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         y.append(coeff)
     x = dn.matmul(y, u[:r], m, r, k) if r else dn.zeros(m, k)
     if r < k:
-        kern = u[r:]
-        pivs = [dn.leading_position(row)[::-1] for row in kern]
-        dn.reduce_rows(x, range(m), pivs, basis=kern)
+        x = reduce_modulo_popov(x, u[r:])
     return PolyMatrix._new(x, m, k, V.var)
 
 

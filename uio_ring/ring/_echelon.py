@@ -1,0 +1,148 @@
+"""Row echelon forms and transform reduction on raw rows (no validation).
+
+The elimination shared by :mod:`~uio_ring.ring.hermite`, :mod:`~uio_ring.ring.smith`,
+:mod:`~uio_ring.ring.inverse`, :mod:`~uio_ring.ring.kernel` and
+:mod:`~uio_ring.ring.solve`.  It imports only the dense kernels and the Popov
+division, so those modules do not import one another.
+
+Degrees: ``deg 0 = -1``.
+"""
+
+from __future__ import annotations
+
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
+from uio_ring.ring import _division as dv
+
+__all__ = ["row_echelon", "normalise", "reduce_transform", "XGCD_MIN_DEGREE"]
+
+#: A column step switches from Euclidean division to 2×2 xgcd steps when two
+#: rows are left, or when the least pivot degree is at least this (a long
+#: remainder sequence over Q swells the coefficients of the whole rows; one
+#: ``xgcd`` runs in C with half-gcd and multimodular arithmetic).
+XGCD_MIN_DEGREE = 4
+
+
+def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
+    """Replace rows p, i by ``[[s, t], [−a_i/g, a_p/g]]·[row_p; row_i]``, where
+    ``g = s·a_p + t·a_i = gcd(a_p, a_i)`` (column j): afterwards ``a[p][j] = g`` and
+    ``a[i][j] = 0``.  The 2×2 factor has determinant 1.  Precondition: both entries
+    nonzero, p ≠ i (not checked)."""
+    x, y = a[p][j], a[i][j]
+    g, s, t = bk.xgcd(x, y)
+    xg, yg = x // g, y // g
+    for rows in (a, u):
+        if rows is None:
+            continue
+        rp, ri = rows[p], rows[i]
+        rows[p] = [s * e + t * f for e, f in zip(rp, ri, strict=True)]
+        rows[i] = [xg * f - yg * e for e, f in zip(rp, ri, strict=True)]
+
+
+def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int) -> list[int]:
+    """Row echelon form of ``a`` in place (unimodular row operations, mirrored on ``u``).
+
+    Returns the pivot columns; rows ``0..len(pivots)-1`` are nonzero, the others
+    zero.  Pivots are not yet monic and entries above them are not reduced.
+
+    Algorithm: column by column.  While several candidate rows are nonzero in
+    the column, the row with the least-degree entry (ties: least row degree) is
+    the pivot.  If only two rows are left, or the pivot degree is at least
+    :data:`XGCD_MIN_DEGREE`, each other row is eliminated by one 2×2 extended-gcd
+    step (:func:`_xgcd_step`; python-flint's ``xgcd``, half-gcd in C, as in the
+    Euclidean Hermite form of SageMath's ``matrix2.pyx``).  Otherwise the others
+    are reduced by their quotient (one Euclidean division each).  Cost per column:
+    O(m) gcds or divisions of entries plus the row updates.
+    A pivot that divides an entry eliminates it by one division instead, and its
+    row stays unchanged: then the alternating row/column passes of the Smith form
+    keep the degree of the corner entry falling until it divides its row and
+    column.  Precondition: ``u`` has m rows (not checked).
+    """
+    r = 0
+    pivots: list[int] = []
+    for j in range(n):
+        if r == m:
+            break
+        # Loop invariant: rows r.. are zero in columns < j.
+        while True:
+            nz = [i for i in range(r, m) if not a[i][j].is_zero()]
+            if len(nz) <= 1:
+                break
+            p = min(nz, key=lambda i: (a[i][j].degree(), dn.row_degree(a[i]), i))
+            pj = a[p][j]
+            if len(nz) == 2 or pj.degree() >= XGCD_MIN_DEGREE:
+                for i in nz:
+                    if i == p:
+                        continue
+                    q, rem = divmod(a[i][j], a[p][j])
+                    if rem.is_zero():  # the pivot divides: keep its row (Smith relies on it)
+                        dn.row_axpy(a, i, q, p, j)
+                        if u is not None:
+                            dn.row_axpy(u, i, q, p)
+                    else:
+                        _xgcd_step(a, u, p, i, j)
+                continue
+            for i in nz:
+                if i == p:
+                    continue
+                q = a[i][j] // pj
+                dn.row_axpy(a, i, q, p, j)
+                if u is not None:
+                    dn.row_axpy(u, i, q, p)
+        if not nz:
+            continue
+        p = nz[0]
+        if p != r:
+            a[p], a[r] = a[r], a[p]
+            if u is not None:
+                u[p], u[r] = u[r], u[p]
+        pivots.append(j)
+        r += 1
+    return pivots
+
+
+def normalise(a: dn.Rows, u: dn.Rows | None, pivots: list[int]) -> None:
+    """Monic pivots and reduced entries above them, in place.
+    Precondition: ``a`` is in row echelon form with the given pivots (not checked)."""
+    for k, j in enumerate(pivots):
+        c = bk.lc(a[k][j])
+        if c != 1:
+            inv = bk.const(1) / c
+            a[k] = [x * inv for x in a[k]]
+            if u is not None:
+                u[k] = [x * inv for x in u[k]]
+    for k, j in enumerate(pivots):
+        piv = a[k][j]
+        dp = piv.degree()
+        for i in range(k):
+            if a[i][j].degree() >= dp:
+                q = a[i][j] // piv
+                dn.row_axpy(a, i, q, k, j)
+                if u is not None:
+                    dn.row_axpy(u, i, q, k)
+
+
+def reduce_transform(u: dn.Rows, r: int, kernel: dn.Rows | None = None) -> None:
+    """Lower the degree of a transform whose rows ``r:`` span a left kernel, in place.
+
+    The kernel rows are replaced by their Popov form (a minimal, row-reduced
+    basis of the same module) — or by ``kernel`` when the caller has that Popov
+    basis already — and the rows ``:r`` are reduced modulo it by one matrix
+    division (:func:`uio_ring.ring._division.reduce_modulo_popov`).  Neither
+    changes ``u @ M``, and ``u`` stays unimodular (the kernel block changes by a
+    unimodular factor, the top block by multiples of kernel rows).
+    Precondition: rows ``r:`` of ``u`` are linearly independent and span the same
+    module as ``kernel`` when it is given (not checked).
+    """
+    if r >= len(u):
+        return
+    if kernel is None:
+        kern = u[r:]
+        dn.weak_popov(kern)
+        dn.popov(kern)
+    else:
+        kern = dn.copy(kernel)
+    u[r:] = kern
+    u[:r] = dv.reduce_modulo_popov(u[:r], kern)
+
+

@@ -1,0 +1,113 @@
+"""Bottom layer of the algorithm modules: rank, determinant and the normal-form
+predicates on raw rows.
+
+Every algorithm module (and the :class:`~uio_ring.ring.matrix.PolyMatrix`
+façade) may import this module; it imports only the scalar backend, the dense
+kernels and the evaluation helpers.  This keeps the import graph of
+``uio_ring.ring`` acyclic: ``matrix`` calls :func:`det_raw`/:func:`rank_raw`
+instead of importing ``rank``, and ``hermite``/``smith`` certify their results
+with :func:`is_unimodular_raw` instead of importing ``inverse``.
+
+Rank
+    ``rank M(x) ≤ rank M`` for every rational x, and a nonzero k×k minor (degree
+    ≤ b_k, see :func:`~uio_ring.ring._evaluation.minor_degree_bound`) vanishes at
+    no more than b_k points.  So if ``b_{r+1} + 1`` distinct points all give rank
+    ≤ r while some point gives r, the rank is exactly r.  Evaluation stops at
+    once when the rank reaches min(m, n).
+Determinant
+    ``det M(x)`` at ``b_n + 1`` points, then interpolation.
+
+Degrees: ``deg 0 = -1``.
+"""
+
+from __future__ import annotations
+
+import flint
+
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
+from uio_ring.ring import _evaluation as ev
+
+__all__ = ["rank_raw", "det_raw", "is_unimodular_raw", "is_hermite_raw", "is_smith_raw"]
+
+
+def rank_raw(a: dn.Rows, m: int, n: int) -> int:
+    """Rank over Q[δ] of the m×n rows ``a`` (deterministic, exact).
+    Precondition: ``a`` has shape m×n (not checked)."""
+    if m == 0 or n == 0 or all(p.is_zero() for r in a for p in r):
+        return 0
+    coeffs = ev.coefficient_mats(a, m, n)
+    top = min(m, n)
+    best = 0
+    needed = ev.minor_degree_bound(a, m, n, 1) + 1
+    used = 0
+    for x in ev.points():
+        r = bk.mat_rank(ev.evaluate(coeffs, x))
+        used += 1
+        if r > best:
+            best = r
+            if best == top:
+                return best
+            needed = ev.minor_degree_bound(a, m, n, best + 1) + 1
+        # Invariant: best = max rank seen; no (best+1)-minor is nonzero at `used` points.
+        if used >= needed:
+            return best
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
+    """Determinant of the n×n rows ``a``.  Precondition: square (not checked)."""
+    if n == 0:
+        return bk.ONE
+    coeffs = ev.coefficient_mats(a, n, n)
+    bound = ev.minor_degree_bound(a, n, n, n)
+    xs = ev.first_points(bound + 1)
+    ys = [bk.mat_det(ev.evaluate(coeffs, x)) for x in xs]
+    return ev.interpolate(xs, ys)
+
+
+def is_unimodular_raw(a: dn.Rows, m: int, n: int) -> bool:
+    """Square with a nonzero constant determinant (0×0 counts).
+    Precondition: ``a`` has shape m×n (not checked)."""
+    return m == n and det_raw(a, n).degree() == 0
+
+
+def is_hermite_raw(a: dn.Rows, m: int) -> bool:
+    """The normalised row Hermite form test of :func:`uio_ring.ring.hermite.is_hermite`.
+    Precondition: ``a`` has m rows (not checked)."""
+    last = -1
+    seen_zero = False
+    pivots: list[tuple[int, int]] = []
+    for k, row in enumerate(a):
+        j = next((c for c, p in enumerate(row) if not p.is_zero()), None)
+        if j is None:
+            seen_zero = True
+            continue
+        if seen_zero or j <= last:
+            return False
+        if bk.lc(row[j]) != 1:
+            return False
+        pivots.append((k, j))
+        last = j
+    for k, j in pivots:
+        dp = a[k][j].degree()
+        for i in range(m):
+            if i != k and a[i][j].degree() >= (dp if i < k else 0):
+                return False
+    return True
+
+
+def is_smith_raw(a: dn.Rows, m: int, n: int) -> bool:
+    """The Smith form test of :func:`uio_ring.ring.smith.is_smith`.
+    Precondition: ``a`` has shape m×n (not checked)."""
+    for i in range(m):
+        for j in range(n):
+            if i != j and not a[i][j].is_zero():
+                return False
+    diag = [a[i][i] for i in range(min(m, n))]
+    r = sum(1 for p in diag if not p.is_zero())
+    if any(p.is_zero() for p in diag[:r]) or any(not p.is_zero() for p in diag[r:]):
+        return False
+    if any(bk.lc(p) != 1 for p in diag[:r]):
+        return False
+    return all((diag[i + 1] % diag[i]).is_zero() for i in range(r - 1))
