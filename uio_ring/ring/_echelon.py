@@ -14,13 +14,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _division as dv
 
-__all__ = ["row_echelon", "normalise", "reduce_transform", "XGCD_MIN_DEGREE"]
-
-#: A column step switches from Euclidean division to 2×2 xgcd steps when two
-#: rows are left, or when the least pivot degree is at least this (a long
-#: remainder sequence over Q swells the coefficients of the whole rows; one
-#: ``xgcd`` runs in C with half-gcd and multimodular arithmetic).
-XGCD_MIN_DEGREE = 4
+__all__ = ["row_echelon", "normalise", "reduce_transform"]
 
 
 def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
@@ -47,12 +41,15 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int) -> list[int]:
 
     Algorithm: column by column.  While several candidate rows are nonzero in
     the column, the row with the least-degree entry (ties: least row degree) is
-    the pivot.  If only two rows are left, or the pivot degree is at least
-    :data:`XGCD_MIN_DEGREE`, each other row is eliminated by one 2×2 extended-gcd
-    step (:func:`_xgcd_step`; python-flint's ``xgcd``, half-gcd in C, as in the
-    Euclidean Hermite form of SageMath's ``matrix2.pyx``).  Otherwise the others
-    are reduced by their quotient (one Euclidean division each).  Cost per column:
-    O(m) gcds or divisions of entries plus the row updates.
+    the pivot.  If only two rows are left, the other one is eliminated by one 2×2
+    extended-gcd step (:func:`_xgcd_step`; python-flint's ``xgcd``, half-gcd in C,
+    as in the Euclidean Hermite form of SageMath's ``matrix2.pyx``) instead of a
+    remainder sequence over Q, whose every step updates whole rows with swelling
+    rational coefficients (the 2×2 ``[[(1+δ)^k, …], [δ^k − 1, …]]`` took 40 s at
+    k = 128).  Both give the same second row up to a constant, and Bézout
+    cofactors of least degree.  With three or more rows the others are reduced by
+    their quotient (one Euclidean division each): pairwise xgcd steps there
+    multiply whole rows by cofactors and the degrees grow without bound.
     A pivot that divides an entry eliminates it by one division instead, and its
     row stays unchanged: then the alternating row/column passes of the Smith form
     keep the degree of the corner entry falling until it divides its row and
@@ -70,7 +67,7 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int) -> list[int]:
                 break
             p = min(nz, key=lambda i: (a[i][j].degree(), dn.row_degree(a[i]), i))
             pj = a[p][j]
-            if len(nz) == 2 or pj.degree() >= XGCD_MIN_DEGREE:
+            if len(nz) == 2:
                 for i in nz:
                     if i == p:
                         continue

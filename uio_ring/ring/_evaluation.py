@@ -55,6 +55,56 @@ def first_points(count: int) -> list[int]:
     return out
 
 
+def _weights(xs: Sequence[int]) -> list[int]:
+    """``W_i = Π_{j≠i} (x_i − x_j)`` (nonzero integers for distinct xs)."""
+    out = []
+    for i, xi in enumerate(xs):
+        w = 1
+        for j, xj in enumerate(xs):
+            if j != i:
+                w *= xi - xj
+        out.append(w)
+    return out
+
+
+def _lagrange_sum(xs: Sequence[int], zs: Sequence[flint.fmpq]) -> tuple[flint.fmpq_poly, flint.fmpq_poly]:
+    """``(Σ_i z_i Π_{j≠i} (δ − x_j), Π_j (δ − x_j))`` by halving (a subproduct tree):
+    ``S = P_right·S_left + P_left·S_right``.  O(M(N) log N) operations in C."""
+    if len(xs) == 1:
+        return flint.fmpq_poly([zs[0]]), flint.fmpq_poly([-xs[0], 1])
+    h = len(xs) // 2
+    sl, pl = _lagrange_sum(xs[:h], zs[:h])
+    sr, pr = _lagrange_sum(xs[h:], zs[h:])
+    return pr * sl + pl * sr, pl * pr
+
+
+def interpolate_columns(values: flint.fmpq_mat, xs: Sequence[int] | None = None) -> list[flint.fmpq_poly]:
+    """Interpolate every column of ``values`` (row k = values at ``xs[k]``, by default the
+    k-th point of :func:`points`); one polynomial of degree < len(xs) per column.
+
+    Lagrange's formula ``p = Σ_i y_i/W_i · Π_{j≠i}(δ − x_j)``, ``W_i = Π_{j≠i}(x_i − x_j)``.
+    Few columns (≤ 8): a subproduct tree per column (:func:`_lagrange_sum`,
+    O(M(N) log N)); no Vandermonde inverse, whose cost grows like N⁴ bits (5 s at
+    N = 257).  Many columns: one product with the (cached) inverse of the
+    Vandermonde matrix, O(N²·k) rational operations in C, which is faster there
+    (measured: N = 65, k = 1024 — 0.14 s against 0.76 s for an integer Lagrange
+    product).
+    Precondition: the xs are distinct (not checked)."""
+    count, k = values.nrows(), values.ncols()
+    if xs is None:
+        xs = first_points(count)
+    if count == 0:
+        return [bk.ZERO] * k
+    w = _weights(xs)
+    if k <= _FEW_COLUMNS:
+        return [
+            _lagrange_sum(xs, [values[i, j] / w[i] for i in range(count)])[0] for j in range(k)
+        ]
+    coeffs = _vandermonde_inverse(xs) * values
+    entries = coeffs.entries()
+    return [flint.fmpq_poly([entries[e * k + j] for e in range(count)]) for j in range(k)]
+
+
 _VANDERMONDE_INVERSES: dict[int, flint.fmpq_mat] = {}
 
 
@@ -70,14 +120,7 @@ def _vandermonde_inverse(xs: Sequence[int]) -> flint.fmpq_mat:
     return inv
 
 
-def interpolate_columns(values: flint.fmpq_mat, xs: Sequence[int] | None = None) -> list[flint.fmpq_poly]:
-    """Interpolate every column of ``values`` (row k = values at ``xs[k]``, by default the
-    k-th point of :func:`points`) in one matrix product; one polynomial per column.
-    Precondition: the xs are distinct."""
-    count, k = values.nrows(), values.ncols()
-    coeffs = _vandermonde_inverse(first_points(count) if xs is None else xs) * values
-    entries = coeffs.entries()
-    return [flint.fmpq_poly([entries[e * k + j] for e in range(count)]) for j in range(k)]
+_FEW_COLUMNS = 8
 
 
 def evaluate(coeffs: Sequence[flint.fmpq_mat], x: int) -> flint.fmpq_mat:
@@ -90,17 +133,12 @@ def evaluate(coeffs: Sequence[flint.fmpq_mat], x: int) -> flint.fmpq_mat:
 
 
 def interpolate(xs: Sequence[int], ys: Sequence[flint.fmpq]) -> flint.fmpq_poly:
-    """The polynomial of degree < len(xs) through ``(xs[i], ys[i])`` (Newton's divided
-    differences).  Precondition: the xs are distinct."""
-    n = len(xs)
-    coef = [flint.fmpq(y) for y in ys]
-    for j in range(1, n):
-        for i in range(n - 1, j - 1, -1):
-            coef[i] = (coef[i] - coef[i - 1]) / (xs[i] - xs[i - j])
-    p = flint.fmpq_poly([coef[-1]]) if n else bk.ZERO
-    for i in range(n - 2, -1, -1):
-        p = p * flint.fmpq_poly([-xs[i], 1]) + coef[i]
-    return p
+    """The polynomial of degree < len(xs) through ``(xs[i], ys[i])`` (Lagrange by a
+    subproduct tree, :func:`_lagrange_sum`).  Precondition: the xs are distinct."""
+    if not xs:
+        return bk.ZERO
+    w = _weights(xs)
+    return _lagrange_sum(xs, [flint.fmpq(y) / wi for y, wi in zip(ys, w, strict=True)])[0]
 
 
 def minor_degree_bound(a: dn.Rows, m: int, n: int, k: int) -> int:

@@ -10,9 +10,10 @@ For a nonsingular n×n matrix M the Hermite form is usually
 * Every row ``e_i + h_i e_n`` of H lies in the row module, i.e.
   ``(e_i + h_i e_n)·adj(M) ≡ 0 (mod det M)``; with ``c`` this gives
   ``h_i ≡ −c_i·c_n⁻¹ (mod det M)``, and ``deg h_i < deg det M`` fixes h_i.
-* ``U = H·M⁻¹ = H·adj(M)/det M`` is then polynomial of degree at most the
-  degree bound of the (n−1)-minors, and is interpolated from exact values
-  ``H(x)·M(x)⁻¹`` at that many points plus one.
+* ``U = H·M⁻¹ = H·adj(M)/det M`` is then polynomial.  adj(M) is interpolated
+  from its exact values ``det M(x)·M(x)⁻¹`` (integers for an integer M: cheap
+  rational products) at the degree bound of the (n−1)-minors plus one points,
+  and ``U_i = (adj_i + h_i·adj_n) / det M`` by exact division.
 * ``V = [[I, −h], [0, 1]]`` gives ``H·V = diag(1, …, 1, δ_n)``: the Smith form.
 
 All linear algebra runs over Q in C (flint).  Points are the fixed sequence
@@ -169,15 +170,25 @@ def generic_hermite(a: dn.Rows, n: int) -> tuple[dn.Rows, dn.Rows, list[flint.fm
     for i in range(n - 1):
         H[i][n - 1] = h[i]
     H[n - 1][n - 1] = dn_
-    # U = H·M⁻¹ at abound + 1 points, then interpolation of every entry
+    # adj M at abound + 1 points (exact values det·M(x)⁻¹, integers for integer M),
+    # interpolated; then U = H·adj(M)/det M row by row:
+    #   U_i = (adj_i + h_i·adj_n) / det  (i < n),   U_n = adj_n / lc(det).
     k = abound + 1
-    values = []
-    for x, inv in zip(xs[:k], invs[:k], strict=True):
-        fx = flint.fmpq(x)
-        hx = flint.fmpq_mat(n, n, [p(fx) for row in H for p in row])
-        values.append((hx * inv).entries())
+    values = [(dx * inv).entries() for dx, inv in zip(dets[:k], invs[:k], strict=True)]
     polys = ev.interpolate_columns(flint.fmpq_mat(k, n * n, [v for row in values for v in row]), xs[:k])
-    U = [polys[i * n : (i + 1) * n] for i in range(n)]
+    adj = [polys[i * n : (i + 1) * n] for i in range(n)]
+    last = adj[n - 1]
+    U = []
+    for i in range(n - 1):
+        row = []
+        for a_ij, a_nj in zip(adj[i], last, strict=True):
+            q, r = divmod(a_ij + h[i] * a_nj, det)
+            if not r.is_zero():  # pragma: no cover - U = H·M⁻¹ is polynomial (certified shape)
+                return None
+            row.append(q)
+        U.append(row)
+    lcd = bk.lc(det)
+    U.append([a / lcd for a in last])
     return H, U, h
 
 
