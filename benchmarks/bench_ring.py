@@ -20,19 +20,29 @@ What is compared
     rank, det        sympy: DomainMatrix over QQ(d) / QQ[d] (sympy's fastest path);
                      sage: M.rank(), M.det()
     is_unimodular    sympy/sage: det is a nonzero constant
-    left_inverse, left_kernel, solve_left: ours only (neither library has a
-                     polynomial left inverse or saturated kernel basis of this kind)
+    left_kernel      ours: left_kernel(M) (Popov basis);  sage: M.minimal_kernel_basis()
+    left_inverse, solve_left: ours only (neither library has a polynomial left
+                     inverse; sage's solve_left answers over the fraction field)
 
 Cases (seeded, identical for every library)
     random     n×n, entries of degree 2 with integer coefficients in [−3, 3]
     smith      P·diag(1, …, 1, δ+1, (δ+1)(δ−2))·Q, P and Q random unimodular
     tall       (n+2)×n left-unimodular: first n columns of a random unimodular matrix
+    tall4      (n+4)×n, entries of degree 2 (coefficients in [−3, 3]); the left kernel
+               has 4 rows of degree ≈ n/2 (n = 8 … 24)
+    rankdef    n×n of rank n − 2: A·B with A n×(n−2), B (n−2)×n of degree 1
+    highdeg    2×2 [[(1+δ)^k, δ^(k−1)+1], [δ^k − 1, (δ−1)^k]] (k = 16 … 256; the "n" column is k)
     paper001   M = [[C B, D], [D, 0]] of Zheng et al. §5 (6×4)
+
+After the table: the fitted growth exponent of left_kernel on tall4 (least squares
+of log time against log n), for every library.
 
 Usage::
 
-    python benchmarks/bench_ring.py                 # n = 4, 8, 12, 16, 20
+    python benchmarks/bench_ring.py                 # every family, full sizes
     python benchmarks/bench_ring.py --max-n 12
+    python benchmarks/bench_ring.py --families highdeg,tall4
+    python benchmarks/bench_ring.py --sage          # fail if SageMath is not importable
     python benchmarks/bench_ring.py --quick         # tiny sizes: a smoke test
 
 Timings are never asserted anywhere; tests/test_benchmarks_smoke.py only checks
@@ -53,6 +63,11 @@ from typing import Any
 
 SIZES = [4, 8, 12, 16, 20]
 QUICK_SIZES = [2, 3]
+TALL4_SIZES = [8, 12, 16, 20, 24]
+RANKDEF_SIZES = [4, 8, 12, 16]
+HIGHDEG_KS = [16, 32, 64, 128, 256]
+QUICK_KS = [4, 8]
+FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "paper001"]
 
 Coeffs = list[int]  # low to high
 Data = list[list[Coeffs]]  # matrix of coefficient lists
@@ -127,7 +142,29 @@ def paper_001_matrix() -> Data:
     return top + bottom
 
 
-def build_cases(sizes: list[int], seed: int) -> list[dict[str, Any]]:
+def _binom_poly(k: int, sign: int) -> Coeffs:
+    """(δ + sign)^k, low to high."""
+    out = [1]
+    for _ in range(k):
+        out = _pmul(out, [sign, 1])
+    return out
+
+
+def high_degree_matrix(k: int) -> Data:
+    """[[(1+δ)^k, δ^(k−1)+1], [δ^k − 1, (δ−1)^k]] (issue 15)."""
+    return [
+        [_binom_poly(k, 1), _padd([1], [0] * (k - 1) + [1])],
+        [_padd([-1], [0] * k + [1]), _binom_poly(k, -1)],
+    ]
+
+
+def build_cases(sizes: list[int], seed: int, *, quick: bool = False, max_n: int = 10**9,
+                families: list[str] | None = None) -> list[dict[str, Any]]:
+    cases = _build_all(sizes, seed, quick=quick, max_n=max_n)
+    return [c for c in cases if families is None or c["family"] in families]
+
+
+def _build_all(sizes: list[int], seed: int, *, quick: bool, max_n: int) -> list[dict[str, Any]]:
     rng = random.Random(seed)
     cases: list[dict[str, Any]] = []
     square_ops = ["hermite", "smith", "invariant_factors", "rank", "det", "is_unimodular", "solve_left"]
@@ -147,6 +184,20 @@ def build_cases(sizes: list[int], seed: int) -> list[dict[str, Any]]:
         M = [row[:n] for row in Uf]
         cases.append(dict(family="tall", n=n, shape=(n + 2, n), M=M, W=None,
                           ops=["left_inverse", "left_kernel", "hermite", "is_unimodular_left"]))
+    rng4 = random.Random(seed + 4)  # own streams: adding a family never changes the others
+    for n in (QUICK_SIZES if quick else [n for n in TALL4_SIZES if n <= max_n]):
+        M = _random_matrix(rng4, n + 4, n, 2)
+        X0 = _random_matrix(rng4, 2, n + 4, 1)
+        cases.append(dict(family="tall4", n=n, shape=(n + 4, n), M=M, W=_matmul(X0, M),
+                          ops=["left_kernel", "hermite", "left_inverse", "solve_left"]))
+    rng5 = random.Random(seed + 5)
+    for n in (QUICK_SIZES[-1:] if quick else [n for n in RANKDEF_SIZES if n <= max_n]):
+        M = _matmul(_random_matrix(rng5, n, n - 2, 1), _random_matrix(rng5, n - 2, n, 1))
+        cases.append(dict(family="rankdef", n=n, shape=(n, n), M=M, W=None,
+                          ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel"]))
+    for k in (QUICK_KS if quick else HIGHDEG_KS):
+        cases.append(dict(family="highdeg", n=k, shape=(2, 2), M=high_degree_matrix(k), W=None,
+                          ops=["hermite", "smith", "invariant_factors", "det"]))
     M = paper_001_matrix()
     cases.append(dict(family="paper001", n=6, shape=(6, 4), M=M, W=[M[0], M[2]],
                       ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel", "solve_left"]))
@@ -232,8 +283,33 @@ def _setup_sympy(case):
     return ops, monic_factors
 
 
+def _sage_names():
+    """QQ, PolynomialRing, matrix from ``sage.all`` or, with only the modular
+    passagemath wheels installed, from their ``sage.all__sagemath_*`` modules."""
+    try:
+        from sage.all import QQ, PolynomialRing, matrix  # type: ignore[import-not-found]
+    except ImportError:
+        import sage.all__sagemath_flint  # type: ignore[import-not-found]  # noqa: F401
+        from sage.all__sagemath_modules import (  # type: ignore[import-not-found]
+            QQ,
+            PolynomialRing,
+            matrix,
+        )
+    return QQ, PolynomialRing, matrix
+
+
+def sage_available() -> bool:
+    for name in ("sage.all", "sage.all__sagemath_modules"):
+        try:
+            if importlib.util.find_spec(name) is not None:
+                return True
+        except ImportError:
+            continue
+    return False
+
+
 def _setup_sage(case):
-    from sage.all import QQ, PolynomialRing, matrix  # type: ignore[import-not-found]
+    QQ, PolynomialRing, matrix = _sage_names()
 
     R = PolynomialRing(QQ, "d")
     n, m = case["shape"]
@@ -250,6 +326,7 @@ def _setup_sage(case):
         "rank": lambda: M.rank(),
         "det": lambda: M.det(),
         "is_unimodular": lambda: M.is_square() and M.det().degree() == 0,
+        "left_kernel": lambda: M.minimal_kernel_basis(),
     }
     return ops, monic_factors
 
@@ -393,14 +470,24 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeats", type=int, default=5, help="best of k for fast operations")
     ap.add_argument("--seed", type=int, default=20261123)
     ap.add_argument("--no-sympy", action="store_true", help="skip the sympy columns")
+    ap.add_argument("--sage", action="store_true", help="require SageMath (exit 2 if not importable)")
+    ap.add_argument("--families", default=",".join(FAMILIES),
+                    help=f"comma-separated subset of {','.join(FAMILIES)}")
     args = ap.parse_args(argv)
 
     sizes = QUICK_SIZES if args.quick else [n for n in SIZES if n <= args.max_n]
     budget = min(args.budget, 30.0) if args.quick else args.budget
     repeats = 1 if args.quick else args.repeats
+    families = [f.strip() for f in args.families.split(",") if f.strip()]
+    unknown = sorted(set(families) - set(FAMILIES))
+    if unknown:
+        ap.error(f"unknown families {unknown}; choose from {FAMILIES}")
     libs = ["ours"] + ([] if args.no_sympy else ["sympy"])
-    if importlib.util.find_spec("sage") is not None and importlib.util.find_spec("sage.all") is not None:
+    if sage_available():
         libs.append("sage")
+    elif args.sage:
+        print("--sage: SageMath is not importable (pip install passagemath-flint passagemath-modules)")
+        return 2
 
     import platform
 
@@ -418,7 +505,8 @@ def main(argv: list[str] | None = None) -> int:
         versions.append("sage: not installed (columns omitted)")
     print("# " + ", ".join(versions))
 
-    cases = build_cases(sizes, args.seed)
+    cases = build_cases(sizes, args.seed, quick=args.quick, max_n=args.max_n, families=families)
+    kernel_times: dict[str, list[tuple[int, float]]] = {lib: [] for lib in libs}
     timed_out: set[tuple[str, str, str]] = set()  # (lib, family, op)
     header = ["family", "n", "shape", "operation", "ours [s]"]
     if "sympy" in libs:
@@ -451,6 +539,11 @@ def main(argv: list[str] | None = None) -> int:
             other = res[lib].get("__check__")
             if isinstance(ref, list) and isinstance(other, list) and ref != other:
                 mismatches.append(f"{case['family']} n={case['n']}: invariant factors differ, ours vs {lib}")
+        if case["family"] == "tall4":
+            for lib in libs:
+                v = res[lib].get("left_kernel")
+                if isinstance(v, float):
+                    kernel_times[lib].append((case["n"], v))
         for op in case["ops"]:
             ours = res["ours"].get(op)
             line = [case["family"], str(case["n"]), f"{case['shape'][0]}x{case['shape'][1]}",
@@ -467,12 +560,29 @@ def main(argv: list[str] | None = None) -> int:
     else:
         print("# invariant factors agree between all libraries on every case where both finished")
 
+    for lib in libs:
+        pts = kernel_times[lib]
+        if len(pts) >= 2:
+            print(f"# left_kernel on tall4: fitted growth exponent ({lib}) "
+                  f"{_growth_exponent(pts):.2f} over n = {', '.join(str(n) for n, _ in pts)}")
+
     print()
     k = 1 if args.quick else 3
     print(f"# import cost (fresh interpreter, best of {k}): import, first use, interpreter wall")
     for label, imp, first, wall in import_times(k):
         print(f"{label:10s} import {imp:7.3f} s   first use {first:7.3f} s   wall {wall:7.3f} s")
     return 1 if mismatches else 0
+
+
+def _growth_exponent(points: list[tuple[int, float]]) -> float:
+    """Least-squares slope of log(time) against log(n)."""
+    import math
+
+    xs = [math.log(n) for n, _ in points]
+    ys = [math.log(t) for _, t in points]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    sxx = sum((x - mx) ** 2 for x in xs)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys, strict=True)) / sxx
 
 
 _printed_header = False

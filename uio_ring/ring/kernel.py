@@ -40,6 +40,13 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
     fast = popov_left_kernel(M._r, m, n)
     if fast is not None:
         return PolyMatrix._new(fast, len(fast), m, M.var)
+    return left_kernel_by_elimination(M)
+
+
+def left_kernel_by_elimination(M: PolyMatrix) -> PolyMatrix:
+    """:func:`left_kernel` without the Toeplitz path (any size; for testing the two
+    paths against each other — the Popov basis is unique, so they must agree)."""
+    m, n = M.shape
     a = dn.copy(M._r)
     u = dn.identity(m)
     r = len(row_echelon(a, u, m, n))

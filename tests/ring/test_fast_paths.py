@@ -1,0 +1,262 @@
+"""Fast paths of issue 15 against the elimination path and against the definitions.
+
+* the Popov kernel basis from one block-Toeplitz nullspace
+  (:mod:`uio_ring.ring._kernel_basis`) equals the elimination + Mulders–Storjohann
+  Popov basis (the Popov basis of a module is unique);
+* the one-step Popov division (:mod:`uio_ring.ring._division`) equals the
+  term-by-term reduction (the remainder modulo a Popov basis is unique);
+* high-degree 2×2 matrices (the xgcd column step) at k = 32, and tall
+  (n+4)×n matrices, through hermite, smith, left_kernel, left_inverse, solve_left;
+* the import graph of ``uio_ring.ring`` is acyclic, with no imports inside
+  functions.
+"""
+
+from __future__ import annotations
+
+import ast
+import pathlib
+import random
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from uio_ring.ring import (
+    PolyMatrix,
+    hermite,
+    is_hermite,
+    is_left_unimodular,
+    is_smith,
+    is_unimodular,
+    left_inverse,
+    left_kernel,
+    smith,
+    solve_left,
+)
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
+from uio_ring.ring._division import reduce_modulo_popov
+from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring.kernel import left_kernel_by_elimination
+
+from .strategies import (
+    P,
+    assert_popov,
+    assert_unimodular,
+    dense_matrices,
+    heavy,
+    matrices,
+    rank_deficient_matrices,
+)
+
+
+def random_matrix(rng: random.Random, m: int, n: int, deg: int) -> PolyMatrix:
+    return PolyMatrix(
+        [["+".join(f"({rng.randint(-3, 3)})*d**{e}" for e in range(deg + 1)) for _ in range(n)]
+         for _ in range(m)]
+    )
+
+
+def high_degree(k: int) -> PolyMatrix:
+    """The 2×2 family of issue 15."""
+    return PolyMatrix([[f"(1 + d)**{k}", f"d**{k - 1} + 1"], [f"d**{k} - 1", f"(d - 1)**{k}"]])
+
+
+# ----------------------------------------------------------------------------
+# Toeplitz kernel basis vs elimination
+# ----------------------------------------------------------------------------
+@given(matrices())
+def test_toeplitz_kernel_equals_elimination_kernel(M):
+    K = left_kernel(M)
+    assert K == left_kernel_by_elimination(M)
+    assert (K @ M).is_zero()
+    assert_popov(K)
+
+
+@given(rank_deficient_matrices())
+def test_toeplitz_kernel_rank_deficient(M):
+    K = left_kernel(M)
+    assert K.rows == M.rows - M.rank()
+    assert K == left_kernel_by_elimination(M)
+
+
+@heavy()
+@given(st.integers(1, 5).flatmap(lambda n: dense_matrices(rows=n + 4, cols=n, max_degree=2)))
+def test_toeplitz_kernel_tall(M):
+    K = left_kernel(M)
+    assert K == left_kernel_by_elimination(M)
+    # minimal: the row degrees of a minimal basis add up to at most those of any other
+    # basis, e.g. the kernel rows of an (unreduced) elimination transform
+    assert sum(K.row_degrees()) <= sum(left_kernel_by_elimination(M).row_degrees())
+
+
+def test_toeplitz_kernel_known():
+    M = PolyMatrix("[[1], [d], [d**2]]")
+    K = popov_left_kernel(M._r, 3, 1)
+    assert PolyMatrix._new(K, 2, 3, "d") == PolyMatrix("[[d, -1, 0], [0, d, -1]]")
+    # rational coefficients: the kernel does not depend on the column scaling
+    N = PolyMatrix("[[1/2, d/3], [d, 2*d**2/3], [0, 1/5]]")
+    assert left_kernel(N) == left_kernel_by_elimination(N)
+    assert popov_left_kernel(PolyMatrix.zeros(3, 2)._r, 3, 2) == dn.identity(3)
+    assert popov_left_kernel(PolyMatrix.identity(2)._r, 2, 2) == []
+
+
+def test_toeplitz_kernel_high_degree():
+    """Kernel of a column with entries of degree 32: minimal indices up to 32."""
+    M = PolyMatrix([["(1 + d)**32"], ["d**31 + 1"], ["d**32 - 1"]])
+    K = left_kernel(M)
+    assert K == left_kernel_by_elimination(M)
+    assert (K @ M).is_zero() and K.rows == 2
+
+
+# ----------------------------------------------------------------------------
+# Popov division
+# ----------------------------------------------------------------------------
+@given(st.data())
+def test_popov_division_is_the_unique_remainder(data):
+    M = data.draw(rank_deficient_matrices(min_rows=2))
+    K = left_kernel(M)
+    if K.rows == 0:
+        return
+    X = data.draw(dense_matrices(rows=3, cols=M.rows, max_degree=6))
+    got = reduce_modulo_popov(X._r, K._r)
+    ref = dn.copy(X._r)
+    pivots = [dn.leading_position(row)[::-1] for row in K._r]
+    dn.reduce_rows(ref, range(3), pivots, basis=K._r)  # term by term (reference)
+    assert got == ref
+    R = PolyMatrix._new(got, 3, M.rows, "d")
+    assert (R @ M) == (X @ M)  # differs from X by kernel rows
+    for (deg, col) in (dn.leading_position(row) for row in K._r):
+        assert all(r[col].degree() < deg for r in got)
+
+
+# ----------------------------------------------------------------------------
+# high degree (xgcd steps), k = 32 in the suite
+# ----------------------------------------------------------------------------
+@pytest.mark.parametrize("k", [8, 32])
+def test_hermite_high_degree(k):
+    M = high_degree(k)
+    h = hermite(M)
+    assert h.U @ M == h.H and is_hermite(h.H) and is_unimodular(h.U)
+    assert h.verify(M).ok
+    a, c = M[0, 0], M[1, 0]
+    assert h.H[0, 0] == a.gcd(c)  # the pivot of column 0 is the gcd of the column
+    assert h.H[0, 0] * h.H[1, 1] == M.det().monic()
+
+
+@pytest.mark.parametrize("k", [8, 32])
+def test_smith_high_degree(k):
+    M = high_degree(k)
+    s = smith(M)
+    assert s.U @ M @ s.V == s.S and is_smith(s.S)
+    assert_unimodular(s.U, 2)
+    assert_unimodular(s.V, 2)
+    g = M[0, 0]
+    for e in (M[0, 1], M[1, 0], M[1, 1]):
+        g = g.gcd(e)
+    assert s.invariant_factors == (g, (M.det() // g).monic())
+
+
+def test_xgcd_step_keeps_divisible_pivots():
+    """A constant pivot must not trade places with the other row (the Smith passes
+    would alternate for ever)."""
+    M = PolyMatrix("[[2, 1/2], [5, -5*d**2/2 + 1]]")
+    s = smith(M)
+    assert s.verify(M).ok
+    assert s.invariant_factors == (P("1"), (M.det()).monic())
+
+
+# ----------------------------------------------------------------------------
+# tall (n+4)×n: hermite, left_inverse, solve_left
+# ----------------------------------------------------------------------------
+@pytest.mark.parametrize("n", [2, 4, 6])
+def test_tall_family(n):
+    rng = random.Random(n)
+    M = random_matrix(rng, n + 4, n, 2)
+    h = hermite(M)
+    assert h.U @ M == h.H and is_hermite(h.H) and is_unimodular(h.U)
+    K = h.U[h.rank:, :]
+    assert K == left_kernel(M) == left_kernel_by_elimination(M)
+    if is_left_unimodular(M):
+        X = left_inverse(M)
+        assert X @ M == PolyMatrix.identity(n)
+    W = random_matrix(rng, 2, n + 4, 1) @ M
+    Y = solve_left(M, W)
+    assert Y @ M == W
+    # reduced modulo the kernel: pivot columns of lower degree than the pivots
+    for deg, col in (dn.leading_position(row) for row in K._r):
+        assert all(Y[i, col].degree() < deg for i in range(2))
+
+
+def test_rank_deficient_square_smith_transforms():
+    rng = random.Random(7)
+    M = random_matrix(rng, 6, 4, 1) @ random_matrix(rng, 4, 6, 1)
+    s = smith(M)
+    assert s.verify(M).ok and s.rank == 4
+    assert s.U[4:, :] == left_kernel(M)
+    assert s.V[:, 4:].T == left_kernel(M.T)
+
+
+# ----------------------------------------------------------------------------
+# layers: the import graph of uio_ring.ring
+# ----------------------------------------------------------------------------
+RING = pathlib.Path(__file__).resolve().parents[2] / "uio_ring" / "ring"
+
+
+def _ring_imports(path: pathlib.Path) -> tuple[set[str], list[str]]:
+    """(modules of uio_ring.ring imported at module level, imports found inside functions)."""
+    tree = ast.parse(path.read_text())
+    top: set[str] = set()
+    nested: list[str] = []
+
+    def names(node: ast.ImportFrom) -> set[str]:
+        if node.module == "uio_ring.ring":
+            return {a.name for a in node.names}
+        return {node.module.split(".")[2]} if node.module else set()
+
+    for node in tree.body:
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("uio_ring.ring"):
+            top |= names(node)
+        if isinstance(node, ast.If):  # `if TYPE_CHECKING:` imports count as edges too
+            for sub in ast.walk(node):
+                if isinstance(sub, ast.ImportFrom) and sub.module and sub.module.startswith("uio_ring"):
+                    top |= names(sub)
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            for sub in ast.walk(node):
+                if isinstance(sub, (ast.Import, ast.ImportFrom)):
+                    mod = sub.module if isinstance(sub, ast.ImportFrom) else sub.names[0].name
+                    if mod and mod.startswith("uio_ring"):
+                        nested.append(f"{path.name}: {node.name} imports {mod}")
+    return top, nested
+
+
+def test_ring_import_graph_is_acyclic():
+    graph: dict[str, set[str]] = {}
+    nested: list[str] = []
+    for f in sorted(RING.glob("*.py")):
+        if f.stem == "__init__":
+            continue
+        deps, inner = _ring_imports(f)
+        graph[f.stem] = deps - {f.stem, "__init__"}
+        nested += inner
+    assert nested == []
+    state: dict[str, int] = {}
+
+    def visit(u: str, path: list[str]) -> None:
+        state[u] = 1
+        for v in sorted(graph.get(u, ())):
+            assert state.get(v) != 1, f"import cycle: {' -> '.join(path + [u, v])}"
+            if v not in state:
+                visit(v, path + [u])
+        state[u] = 2
+
+    for u in sorted(graph):
+        if u not in state:
+            visit(u, [])
+    for low in ("_predicates", "_echelon", "_dense", "_backend"):
+        assert not graph[low] & {"matrix", "hermite", "smith", "inverse", "rank"}
+
+
+def test_scalar_gcd_helper_is_monic():
+    assert bk.gcd(bk.from_coeffs([2, 2]), bk.from_coeffs([0, 4, 4])) == bk.from_coeffs([1, 1])
