@@ -319,14 +319,15 @@ def _setup_sage(case):
         fs = [f for f in M.elementary_divisors() if f != 0]
         return [[str(c) for c in f.monic().list()] for f in fs]
 
+    # Sage caches det, rank, forms … on the matrix: every call gets a fresh copy
     ops = {
-        "hermite": lambda: M.hermite_form(transformation=True),
-        "smith": lambda: M.smith_form(),
-        "invariant_factors": lambda: M.elementary_divisors(),
-        "rank": lambda: M.rank(),
-        "det": lambda: M.det(),
-        "is_unimodular": lambda: M.is_square() and M.det().degree() == 0,
-        "left_kernel": lambda: M.minimal_kernel_basis(),
+        "hermite": lambda: M.__copy__().hermite_form(transformation=True),
+        "smith": lambda: M.__copy__().smith_form(),
+        "invariant_factors": lambda: M.__copy__().elementary_divisors(),
+        "rank": lambda: M.__copy__().rank(),
+        "det": lambda: M.__copy__().det(),
+        "is_unimodular": lambda: M.is_square() and M.__copy__().det().degree() == 0,
+        "left_kernel": lambda: M.__copy__().minimal_kernel_basis(),
     }
     return ops, monic_factors
 

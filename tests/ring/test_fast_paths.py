@@ -37,6 +37,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._division import reduce_modulo_popov
 from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring.hermite import hermite_by_elimination
 from uio_ring.ring.kernel import left_kernel_by_elimination
 
 from .strategies import (
@@ -107,6 +108,34 @@ def test_toeplitz_kernel_high_degree():
     K = left_kernel(M)
     assert K == left_kernel_by_elimination(M)
     assert (K @ M).is_zero() and K.rows == 2
+
+
+# ----------------------------------------------------------------------------
+# Hermite / left inverse from Toeplitz systems vs elimination
+# ----------------------------------------------------------------------------
+@given(st.one_of(matrices(min_rows=1), rank_deficient_matrices(),
+                 st.integers(1, 4).flatmap(lambda n: dense_matrices(rows=n + 2, cols=n, max_degree=2))))
+def test_toeplitz_hermite_equals_elimination(M):
+    """rank < rows: U = [X; K] with X reduced modulo the Popov kernel K is unique, so
+    the Toeplitz path and the elimination path (U reduced by Popov division) agree
+    entry by entry."""
+    h = hermite(M)
+    ref = hermite_by_elimination(M)
+    assert h.H == ref.H and h.rank == ref.rank and h.pivots == ref.pivots
+    assert h.U @ M == h.H and is_unimodular(h.U)
+    if h.rank < M.rows:
+        assert h.U == ref.U
+
+
+@heavy()
+@given(st.integers(1, 5).flatmap(lambda n: dense_matrices(rows=n + 3, cols=n, max_degree=2)))
+def test_left_inverse_fast_path_is_the_reduced_inverse(M):
+    if not is_left_unimodular(M):
+        return
+    X = left_inverse(M)
+    assert X @ M == PolyMatrix.identity(M.cols)
+    h = hermite_by_elimination(M)  # H = [I; 0]: its U's top rows are the reduced inverse
+    assert X == h.U[: M.cols, :]
 
 
 # ----------------------------------------------------------------------------

@@ -35,11 +35,12 @@ from __future__ import annotations
 
 import flint
 
+from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring._predicates import rank_raw
 
-__all__ = ["popov_left_kernel", "MAX_UNKNOWNS"]
+__all__ = ["popov_left_kernel", "solve_reduced", "MAX_UNKNOWNS"]
 
 #: Largest Toeplitz system (number of unknowns m·(D + 1)) tried; beyond it the
 #: elimination path is used (its cost does not grow with that size).
@@ -51,6 +52,12 @@ IntCoeffs = list[list[list[int]]]  # [row j][column l] -> integer coefficients, 
 def _integer_coefficients(a: dn.Rows, m: int, n: int) -> IntCoeffs:
     """Coefficients of M·diag(c) with c_l the lcm of the denominators in column l
     (same left kernel as M).  Precondition: shape m×n (not checked)."""
+    scale = _column_scale(a, m, n)
+    return [[[int(x) for x in (a[j][col] * scale[col]).numer().coeffs()] for col in range(n)] for j in range(m)]
+
+
+def _column_scale(a: dn.Rows, m: int, n: int) -> list[flint.fmpz]:
+    """c_l = lcm of the denominators of the coefficients in column l."""
     scale = []
     for col in range(n):
         c = flint.fmpz(1)
@@ -58,7 +65,7 @@ def _integer_coefficients(a: dn.Rows, m: int, n: int) -> IntCoeffs:
             q = a[j][col].denom()
             c = c * q // c.gcd(q)
         scale.append(c)
-    return [[[int(x) for x in (a[j][col] * scale[col]).numer().coeffs()] for col in range(n)] for j in range(m)]
+    return scale
 
 
 def _toeplitz_entries(mi: IntCoeffs, m: int, n: int, dm: int, D: int, mod: int | None) -> list[int]:
@@ -137,3 +144,89 @@ def popov_left_kernel(a: dn.Rows, m: int, n: int) -> dn.Rows | None:
     rows = [[flint.fmpq_poly([g[e * m + j] for e in range(D + 1)]) for j in range(m)] for _, g in gens]
     rows.sort(key=dn.leading_position)
     return rows
+
+
+_PRIME = 2**61 - 1
+
+
+def solve_reduced(a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows) -> dn.Rows | None:
+    """The X with ``X·M = rhs`` reduced modulo the Popov kernel basis ``kernel`` (entries
+    in a pivot column of lower degree than that pivot), from one square block-Toeplitz
+    system; None when that system is too large or the degree bound must grow beyond it.
+
+    The unknowns are the monomials that are not leading monomials of the kernel
+    (δ^e·e_j with e < d_i when j = π_i): for every degree bound D these are the
+    pivot columns of the Toeplitz matrix T_D (its free columns are the leading
+    monomials, see the module text), so ``T_D`` restricted to them has full column
+    rank and the reduced solution, when it has degree ≤ D, is its unique solution.
+    Rows making a square nonsingular system are chosen by a rank computation modulo
+    the prime 2⁶¹ − 1 (nonsingular modulo p implies nonsingular over Q); the square
+    system is solved exactly (``fmpq_mat.solve``: p-adic lifting in C), and the
+    whole system ``T_D·x = rhs`` is then checked exactly — a solution of degree
+    > D (or none) fails the check and D grows.  Precondition: ``kernel`` is the
+    Popov basis of the left kernel of the m×n rows ``a``; rhs rows have n entries
+    (not checked).
+    """
+    if not rhs:
+        return []
+    scale = _column_scale(a, m, n)
+    mi = [[[int(x) for x in (a[j][col] * scale[col]).numer().coeffs()] for col in range(n)] for j in range(m)]
+    dm = max(dn.mat_degree(a), 0)
+    lead = {j: d for d, j in (dn.leading_position(row) for row in kernel)}
+    hdeg = max(dn.mat_degree(rhs), 0)
+    D = max([hdeg - dm, *lead.values(), 0])
+    d_cap = MAX_UNKNOWNS // m - 1
+    while D <= d_cap:
+        got = _solve_reduced_at(mi, m, n, dm, D, lead, rhs, scale)
+        if got is not None:
+            return got
+        if D == d_cap:
+            return None
+        D = min(D + max(D // 2, 1), d_cap)
+    return None
+
+
+def _solve_reduced_at(
+    mi: IntCoeffs, m: int, n: int, dm: int, D: int, lead: dict[int, int], rhs: dn.Rows,
+    scale: list[flint.fmpz],
+) -> dn.Rows | None:
+    rows, cols = n * (D + dm + 1), m * (D + 1)
+    if dn.mat_degree(rhs) > D + dm:
+        return None
+    unknowns = [e * m + j for e in range(D + 1) for j in range(m) if not (j in lead and e >= lead[j])]
+    full = _toeplitz_entries(mi, m, n, dm, D, None)
+    # right-hand sides: coefficient t of rhs[l]·c_l at row (t, l), over one denominator
+    k = len(rhs)
+    b = flint.fmpq_mat(rows, k, [
+        (rhs[v][col] * scale[col])[t] for t in range(D + dm + 1) for col in range(n) for v in range(k)
+    ])
+    bnum, bden = b.numer_denom()
+    # independent rows of T restricted to the unknowns, modulo p
+    tp = flint.nmod_mat(len(unknowns), rows, [full[r * cols + c] % _PRIME for c in unknowns for r in range(rows)], _PRIME)
+    red, rank = tp.rref()
+    if rank < len(unknowns):
+        return None  # a bad prime (T restricted to the unknowns has full column rank over Q)
+    chosen = []
+    r = 0
+    for c in range(rows):
+        if r < rank and red[r, c] != 0:
+            chosen.append(c)
+            r += 1
+    sq = flint.fmpz_mat(len(unknowns), len(unknowns), [full[r * cols + c] for r in chosen for c in unknowns])
+    sb = flint.fmpz_mat(len(unknowns), k, [bnum[r, v] for r in chosen for v in range(k)])
+    sol = flint.fmpq_mat(sq).solve(flint.fmpq_mat(sb))  # exact (p-adic lifting in C)
+    snum, sden = sol.numer_denom()
+    # the exact check of the whole system: T_P · x = rhs, in integers
+    tfull = flint.fmpz_mat(rows, len(unknowns), [full[r * cols + c] for r in range(rows) for c in unknowns])
+    if tfull * snum != bnum * sden:
+        return None  # the reduced solution has degree > D
+    qden = flint.fmpq(bden * sden)
+    out: dn.Rows = []
+    pos = {c: i for i, c in enumerate(unknowns)}
+    for v in range(k):
+        row = []
+        for j in range(m):
+            cs = [snum[pos[e * m + j], v] if (e * m + j) in pos else 0 for e in range(D + 1)]
+            row.append(flint.fmpq_poly(cs) / qden if any(cs) else bk.ZERO)
+        out.append(row)
+    return out

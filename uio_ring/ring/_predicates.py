@@ -22,13 +22,22 @@ Degrees: ``deg 0 = -1``.
 
 from __future__ import annotations
 
+import random
+
 import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 
-__all__ = ["rank_raw", "det_raw", "is_unimodular_raw", "is_hermite_raw", "is_smith_raw"]
+__all__ = [
+    "rank_raw",
+    "det_raw",
+    "is_unimodular_raw",
+    "is_hermite_raw",
+    "is_smith_raw",
+    "coprime_maximal_minors",
+]
 
 
 def rank_raw(a: dn.Rows, m: int, n: int) -> int:
@@ -111,3 +120,16 @@ def is_smith_raw(a: dn.Rows, m: int, n: int) -> bool:
     if any(bk.lc(p) != 1 for p in diag[:r]):
         return False
     return all((diag[i + 1] % diag[i]).is_zero() for i in range(r - 1))
+
+
+def coprime_maximal_minors(a: dn.Rows, m: int, n: int) -> bool:
+    """True when two compressed maximal minors ``det(Q_i·M)`` (fixed pseudo-random
+    integer Q_i, n×m) are coprime: each is a Q-linear combination of the n×n minors
+    (Cauchy–Binet), so their gcd is a multiple of the gcd of all the minors, which
+    is then 1 — M is left unimodular.  False says nothing.  Precondition: m ≥ n ≥ 1."""
+    rng = random.Random(15)  # fixed: the answer depends only on M
+    dets = []
+    for _ in range(2):
+        q = [[bk.const(rng.randint(-9, 9)) for _ in range(m)] for _ in range(n)]
+        dets.append(det_raw(dn.matmul(q, a, n, m, n), n))
+    return not dets[0].is_zero() and bk.gcd(dets[0], dets[1]).is_one()

@@ -22,8 +22,13 @@ from dataclasses import dataclass
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import normalise, reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
-from uio_ring.ring._kernel_basis import popov_left_kernel
-from uio_ring.ring._predicates import is_hermite_raw, is_unimodular_raw
+from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
+from uio_ring.ring._predicates import (
+    coprime_maximal_minors,
+    is_hermite_raw,
+    is_unimodular_raw,
+    rank_raw,
+)
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
 from uio_ring.ring.matrix import PolyMatrix
@@ -98,10 +103,19 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     up to more than ``deg det`` are first reduced to weak Popov form ``W·M``
     (:mod:`uio_ring.ring._reduce`).  They then try the certified
     evaluation/interpolation path of :mod:`uio_ring.ring._generic` (generic
-    shape ``[[I, h], [0, det]]``, U = H·M⁻¹ interpolated; O(n⁴·deg) rational
-    operations in C).  Otherwise: Euclidean elimination column by column with
-    least-degree pivots (:func:`row_echelon`), normalisation of the pivots, and
-    a Popov reduction of the kernel part of U (Mulders & Storjohann 2003).
+    shape ``[[I, h], [0, det]]``, adj M interpolated, ``U = H·adj M / det``;
+    O(n⁴·deg) rational operations in C).  When ``rank M < rows`` (tall or
+    rank-deficient M): ``U = [X; K]`` with K the Popov kernel basis from one
+    block-Toeplitz nullspace and X the solution of ``X·M = H_top`` reduced modulo
+    K, from one square Toeplitz system (:mod:`uio_ring.ring._kernel_basis`;
+    minimal bases as reduced Gröbner bases, Forney 1975; O(N³) word operations per
+    prime with N = rows·(max minimal index + 1)); ``H_top = I`` when two compressed
+    maximal minors are coprime, else from elimination without transform.
+    Otherwise (and as the fallback): Euclidean elimination column by column with
+    least-degree pivots and a python-flint ``xgcd`` step when two rows are left
+    (:func:`~uio_ring.ring._echelon.row_echelon`), normalisation of the pivots,
+    and a Popov reduction of the kernel part of U (Mulders & Storjohann 2003;
+    one-step Popov division, :mod:`uio_ring.ring._division`).
 
     Examples
     --------
@@ -132,7 +146,52 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 rank=n,
                 pivots=tuple(range(n)),
             )
+    if m > 0:
+        fast = _hermite_by_toeplitz(M)
+        if fast is not None:
+            return fast
     return hermite_by_elimination(M)
+
+
+def _hermite_by_toeplitz(M: PolyMatrix) -> HermiteResult | None:
+    """Hermite form with U for ``rank M < rows``, without a transform from elimination.
+
+    ``U = [X; K]``: K the Popov basis of the left kernel (one block-Toeplitz
+    nullspace), X the solution of ``X·M = H_top`` reduced modulo K (one square
+    Toeplitz system; :func:`~uio_ring.ring._kernel_basis.solve_reduced`), ``H_top``
+    the nonzero rows of H — ``I`` when M has full column rank and two compressed
+    maximal minors are coprime, else from an elimination without transform.  U is
+    unimodular: for any unimodular ``U0 = [X0; K0]`` with ``U0·M = H``, ``X − X0``
+    lies in the kernel (``= Y·K``) and ``K0 = Z·K`` with Z unimodular, so
+    ``U = [[I, Y·Z⁻¹], [0, Z⁻¹]]·U0``.  ``X·M = H_top`` and ``K·M = 0`` are checked
+    exactly inside.  None when a Toeplitz system would be too large.
+    """
+    m, n = M.shape
+    a = M._r
+    r = rank_raw(a, m, n)
+    if r == m:
+        return None
+    if r == n and coprime_maximal_minors(a, m, n):
+        h_top = dn.identity(n)
+        pivots = list(range(n))
+    else:
+        h = dn.copy(a)
+        pivots = row_echelon(h, None, m, n)
+        normalise(h, None, pivots)
+        h_top = h[:r]
+    K = popov_left_kernel(a, m, n)
+    if K is None:
+        return None
+    X = solve_reduced(a, m, n, K, h_top)
+    if X is None:
+        return None
+    H = h_top + dn.zeros(m - r, n)
+    return HermiteResult(
+        H=PolyMatrix._new(H, m, n, M.var),
+        U=PolyMatrix._new(X + K, m, m, M.var),
+        rank=r,
+        pivots=tuple(pivots),
+    )
 
 
 def hermite_by_elimination(M: PolyMatrix) -> HermiteResult:

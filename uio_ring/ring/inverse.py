@@ -17,8 +17,8 @@ from __future__ import annotations
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
-from uio_ring.ring._kernel_basis import popov_left_kernel
-from uio_ring.ring._predicates import is_unimodular_raw
+from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
+from uio_ring.ring._predicates import coprime_maximal_minors, is_unimodular_raw, rank_raw
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.smith import invariant_factors
@@ -65,6 +65,13 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     that basis divides the corresponding entry of X.  This keeps the δ-degree
     low (in an observer, degree is delay).  For square M it is the inverse.
 
+    Algorithm: a tall M whose maximal minors are certified coprime (two compressed
+    minors, :func:`~uio_ring.ring._predicates.coprime_maximal_minors`) gets X from
+    one square block-Toeplitz system (:func:`~uio_ring.ring._kernel_basis.solve_reduced`,
+    checked exactly) and the Popov kernel from one Toeplitz nullspace; otherwise
+    Euclidean elimination with a unimodular transform, then Popov division of its
+    first n rows by the kernel basis.
+
     Raises
     ------
     NotUnimodularError
@@ -76,6 +83,11 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     PolyMatrix([[1, -d], [0, 1]])
     """
     m, n = M.shape
+    if m > n > 0 and rank_raw(M._r, m, n) == n and coprime_maximal_minors(M._r, m, n):
+        K = popov_left_kernel(M._r, m, n)  # M is left unimodular: X·M = I, X reduced mod K
+        X = solve_reduced(M._r, m, n, K, dn.identity(n)) if K is not None else None
+        if X is not None:
+            return PolyMatrix._new(X, n, m, M.var)
     u = dn.identity(m)
     a, pivots, units = _echelon_unit_pivots(M, u)
     if len(pivots) < n:
