@@ -472,6 +472,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=20261123)
     ap.add_argument("--no-sympy", action="store_true", help="skip the sympy columns")
     ap.add_argument("--sage", action="store_true", help="require SageMath (exit 2 if not importable)")
+    ap.add_argument("--no-sage", action="store_true", help="skip the SageMath columns")
     ap.add_argument("--families", default=",".join(FAMILIES),
                     help=f"comma-separated subset of {','.join(FAMILIES)}")
     args = ap.parse_args(argv)
@@ -484,7 +485,7 @@ def main(argv: list[str] | None = None) -> int:
     if unknown:
         ap.error(f"unknown families {unknown}; choose from {FAMILIES}")
     libs = ["ours"] + ([] if args.no_sympy else ["sympy"])
-    if sage_available():
+    if sage_available() and not args.no_sage:
         libs.append("sage")
     elif args.sage:
         print("--sage: SageMath is not importable (pip install passagemath-flint passagemath-modules)")

@@ -149,7 +149,9 @@ def popov_left_kernel(a: dn.Rows, m: int, n: int) -> dn.Rows | None:
 _PRIME = 2**61 - 1
 
 
-def solve_reduced(a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows) -> dn.Rows | None:
+def solve_reduced(
+    a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows, *, tries: int | None = None
+) -> dn.Rows | None:
     """The X with ``X·M = rhs`` reduced modulo the Popov kernel basis ``kernel`` (entries
     in a pivot column of lower degree than that pivot), from one square block-Toeplitz
     system; None when that system is too large or the degree bound must grow beyond it.
@@ -163,7 +165,8 @@ def solve_reduced(a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows) -> 
     the prime 2⁶¹ − 1 (nonsingular modulo p implies nonsingular over Q); the square
     system is solved exactly (``fmpq_mat.solve``: p-adic lifting in C), and the
     whole system ``T_D·x = rhs`` is then checked exactly — a solution of degree
-    > D (or none) fails the check and D grows.  Precondition: ``kernel`` is the
+    > D (or none) fails the check and D grows (at most ``tries`` degree bounds
+    when given: for a system that may have no solution).  Precondition: ``kernel`` is the
     Popov basis of the left kernel of the m×n rows ``a``; rhs rows have n entries
     (not checked).
     """
@@ -180,7 +183,9 @@ def solve_reduced(a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows) -> 
         got = _solve_reduced_at(mi, m, n, dm, D, lead, rhs, scale)
         if got is not None:
             return got
-        if D == d_cap:
+        if tries is not None:
+            tries -= 1
+        if D == d_cap or tries == 0:
             return None
         D = min(D + max(D // 2, 1), d_cap)
     return None

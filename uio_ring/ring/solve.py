@@ -7,7 +7,11 @@ divisions; a remainder anywhere means no polynomial solution.  A square
 nonsingular V of size ≥ ``GENERIC_MIN_SIZE`` takes the evaluation path instead:
 ``W·adj V`` is interpolated and divided exactly by ``det V``
 (:func:`uio_ring.ring._generic.generic_solve_left`).  The returned X
-is reduced modulo a Popov basis of the left kernel of V (low δ-degree).
+is reduced modulo a Popov basis of the left kernel of V (low δ-degree).  A tall
+V first tries that reduced X directly, from one square block-Toeplitz system
+checked exactly (:func:`uio_ring.ring._kernel_basis.solve_reduced`, at most three
+degree bounds); elimination answers when it does not (and names the obstruction
+when no polynomial solution exists).
 
 >>> from uio_ring.ring.matrix import PolyMatrix
 >>> V = PolyMatrix("[[1, d], [0, d + 1]]")
@@ -24,7 +28,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring._division import reduce_modulo_popov
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
-from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
 from uio_ring.ring.matrix import PolyMatrix
 
@@ -71,6 +75,11 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
                 "is not a polynomial"
             ) from None
         if got is not None:
+            return PolyMatrix._new(got, m, k, V.var)
+    if m and k > n:
+        kern = popov_left_kernel(V._r, k, n)
+        got = solve_reduced(V._r, k, n, kern, W._r, tries=3) if kern else None
+        if got is not None:  # X·V = W checked exactly inside; X reduced modulo the kernel
             return PolyMatrix._new(got, m, k, V.var)
     a = dn.copy(V._r)
     u = dn.identity(k)
