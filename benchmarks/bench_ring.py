@@ -466,7 +466,7 @@ def _ratio(other: Any, ours: Any) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="tiny sizes only (smoke test)")
-    ap.add_argument("--max-n", type=int, default=max(SIZES), help="largest n (default 20)")
+    ap.add_argument("--max-n", type=int, default=max(TALL4_SIZES), help="largest n (default 24)")
     ap.add_argument("--budget", type=float, default=60.0, help="seconds per operation and library")
     ap.add_argument("--repeats", type=int, default=5, help="best of k for fast operations")
     ap.add_argument("--seed", type=int, default=20261123)
