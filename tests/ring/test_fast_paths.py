@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import ast
+import importlib
 import pathlib
 import random
 
@@ -40,7 +41,9 @@ from uio_ring.ring._kernel_basis import popov_left_kernel
 from uio_ring.ring.hermite import hermite_by_elimination
 from uio_ring.ring.kernel import left_kernel_by_elimination
 
-from .strategies import (
+hermite_module = importlib.import_module("uio_ring.ring.hermite")
+
+from .strategies import (  # noqa: E402
     P,
     assert_popov,
     assert_unimodular,
@@ -66,17 +69,24 @@ def high_degree(k: int) -> PolyMatrix:
 # ----------------------------------------------------------------------------
 # Toeplitz kernel basis vs elimination
 # ----------------------------------------------------------------------------
+def toeplitz_kernel(M: PolyMatrix) -> PolyMatrix:
+    """The Toeplitz path at every size (the public functions use it from 6 rows)."""
+    K = popov_left_kernel(M._r, *M.shape, min_rows=0)
+    assert K is not None
+    return PolyMatrix._new(K, len(K), M.rows, M.var)
+
+
 @given(matrices())
 def test_toeplitz_kernel_equals_elimination_kernel(M):
-    K = left_kernel(M)
-    assert K == left_kernel_by_elimination(M)
+    K = toeplitz_kernel(M)
+    assert K == left_kernel_by_elimination(M) == left_kernel(M)
     assert (K @ M).is_zero()
     assert_popov(K)
 
 
 @given(rank_deficient_matrices())
 def test_toeplitz_kernel_rank_deficient(M):
-    K = left_kernel(M)
+    K = toeplitz_kernel(M)
     assert K.rows == M.rows - M.rank()
     assert K == left_kernel_by_elimination(M)
 
@@ -84,7 +94,7 @@ def test_toeplitz_kernel_rank_deficient(M):
 @heavy()
 @given(st.integers(1, 5).flatmap(lambda n: dense_matrices(rows=n + 4, cols=n, max_degree=2)))
 def test_toeplitz_kernel_tall(M):
-    K = left_kernel(M)
+    K = toeplitz_kernel(M)
     assert K == left_kernel_by_elimination(M)
     # minimal: the row degrees of a minimal basis add up to at most those of any other
     # basis, e.g. the kernel rows of an (unreduced) elimination transform
@@ -93,19 +103,19 @@ def test_toeplitz_kernel_tall(M):
 
 def test_toeplitz_kernel_known():
     M = PolyMatrix("[[1], [d], [d**2]]")
-    K = popov_left_kernel(M._r, 3, 1)
-    assert PolyMatrix._new(K, 2, 3, "d") == PolyMatrix("[[d, -1, 0], [0, d, -1]]")
+    assert toeplitz_kernel(M) == PolyMatrix("[[d, -1, 0], [0, d, -1]]")
     # rational coefficients: the kernel does not depend on the column scaling
     N = PolyMatrix("[[1/2, d/3], [d, 2*d**2/3], [0, 1/5]]")
-    assert left_kernel(N) == left_kernel_by_elimination(N)
-    assert popov_left_kernel(PolyMatrix.zeros(3, 2)._r, 3, 2) == dn.identity(3)
-    assert popov_left_kernel(PolyMatrix.identity(2)._r, 2, 2) == []
+    assert toeplitz_kernel(N) == left_kernel_by_elimination(N)
+    assert popov_left_kernel(PolyMatrix.zeros(3, 2)._r, 3, 2, min_rows=0) == dn.identity(3)
+    assert popov_left_kernel(PolyMatrix.identity(2)._r, 2, 2, min_rows=0) == []
+    assert popov_left_kernel(M._r, 3, 1) is None  # below TOEPLITZ_MIN_ROWS: elimination
 
 
 def test_toeplitz_kernel_high_degree():
     """Kernel of a column with entries of degree 32: minimal indices up to 32."""
     M = PolyMatrix([["(1 + d)**32"], ["d**31 + 1"], ["d**32 - 1"]])
-    K = left_kernel(M)
+    K = toeplitz_kernel(M)
     assert K == left_kernel_by_elimination(M)
     assert (K @ M).is_zero() and K.rows == 2
 
@@ -118,8 +128,10 @@ def test_toeplitz_kernel_high_degree():
 def test_toeplitz_hermite_equals_elimination(M):
     """rank < rows: U = [X; K] with X reduced modulo the Popov kernel K is unique, so
     the Toeplitz path and the elimination path (U reduced by Popov division) agree
-    entry by entry."""
-    h = hermite(M)
+    entry by entry.  The Toeplitz path is forced at every size."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hermite_module, "TOEPLITZ_MIN_ROWS", 1)
+        h = hermite(M)
     ref = hermite_by_elimination(M)
     assert h.H == ref.H and h.rank == ref.rank and h.pivots == ref.pivots
     assert h.U @ M == h.H and is_unimodular(h.U)

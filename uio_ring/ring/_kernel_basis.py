@@ -40,11 +40,14 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring._predicates import rank_raw
 
-__all__ = ["popov_left_kernel", "solve_reduced", "MAX_UNKNOWNS"]
+__all__ = ["popov_left_kernel", "solve_reduced", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
 
 #: Largest Toeplitz system (number of unknowns m·(D + 1)) tried; beyond it the
-#: elimination path is used (its cost does not grow with that size).
-MAX_UNKNOWNS = 1500
+#: elimination path is used.
+MAX_UNKNOWNS = 1000
+#: Fewer rows than this: elimination (a handful of rows of high degree — the matrices
+#: of the observability algorithm, 3×2 of degree 127: elimination 1 ms, Toeplitz 4.7 s).
+TOEPLITZ_MIN_ROWS = 6
 
 IntCoeffs = list[list[list[int]]]  # [row j][column l] -> integer coefficients, low to high
 
@@ -114,10 +117,15 @@ def _exact_generators(
     return [(idx, [flint.fmpq(red[v, cols - 1 - c]) / qden for c in range(cols)]) for idx, v in chosen]
 
 
-def popov_left_kernel(a: dn.Rows, m: int, n: int) -> dn.Rows | None:
+def popov_left_kernel(
+    a: dn.Rows, m: int, n: int, *, min_rows: int = TOEPLITZ_MIN_ROWS
+) -> dn.Rows | None:
     """The Popov basis of the left kernel of the m×n rows ``a`` (rows sorted by
-    pivot degree, then pivot position), or None when the Toeplitz system would be
-    larger than :data:`MAX_UNKNOWNS`.  Precondition: shape m×n (not checked)."""
+    pivot degree, then pivot position), or None when m < ``min_rows`` or the
+    Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.
+    Precondition: shape m×n (not checked)."""
+    if m < min_rows:
+        return None
     r = rank_raw(a, m, n)
     k = m - r
     if k == 0:

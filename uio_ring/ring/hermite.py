@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import normalise, reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
-from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
+from uio_ring.ring._kernel_basis import TOEPLITZ_MIN_ROWS, popov_left_kernel, solve_reduced
 from uio_ring.ring._predicates import (
     coprime_maximal_minors,
     is_hermite_raw,
@@ -168,6 +168,8 @@ def _hermite_by_toeplitz(M: PolyMatrix) -> HermiteResult | None:
     """
     m, n = M.shape
     a = M._r
+    if m < TOEPLITZ_MIN_ROWS:
+        return None
     r = rank_raw(a, m, n)
     if r == m:
         return None
@@ -179,7 +181,7 @@ def _hermite_by_toeplitz(M: PolyMatrix) -> HermiteResult | None:
         pivots = row_echelon(h, None, m, n)
         normalise(h, None, pivots)
         h_top = h[:r]
-    K = popov_left_kernel(a, m, n)
+    K = popov_left_kernel(a, m, n, min_rows=0)
     if K is None:
         return None
     X = solve_reduced(a, m, n, K, h_top)

@@ -24,7 +24,12 @@ from uio_ring.ring._generic import (
     generic_last_factor,
 )
 from uio_ring.ring._kernel_basis import popov_left_kernel
-from uio_ring.ring._predicates import is_smith_raw, is_unimodular_raw
+from uio_ring.ring._predicates import (
+    coprime_maximal_minors,
+    is_smith_raw,
+    is_unimodular_raw,
+    rank_raw,
+)
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
 from uio_ring.ring.matrix import PolyMatrix
@@ -234,12 +239,26 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     first try the certified generic path (factors ``1, …, 1, det/lc`` proved by
     ``gcd(c_n, det) = 1``; from size ``GENERIC_MIN_SIZE`` also two non-trivial
     factors, from the interpolated adjugate; see :mod:`uio_ring.ring._generic`).
+    A non-square M of full rank min(m, n) whose maximal minors are certified coprime
+    (two compressed minors, :func:`~uio_ring.ring._predicates.coprime_maximal_minors`)
+    has every invariant factor 1; otherwise a tall M is replaced by the nonzero rows
+    of its row echelon form (same row module, so the same invariant factors; no
+    transform is tracked) and a wide M by its transpose.
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> invariant_factors(PolyMatrix("[[d, 0], [0, d**2], [1, 1]]"))
     (1, d)
     """
     m, n = M.shape
+    if m < n:
+        return invariant_factors(M.T)
+    if m > n > 0:
+        r = rank_raw(M._r, m, n)
+        if r == n and coprime_maximal_minors(M._r, m, n):
+            return (Poly._wrap(bk.ONE, M.var),) * n
+        a = dn.copy(M._r)
+        pivots = row_echelon(a, None, m, n)
+        return invariant_factors(PolyMatrix._new(a[: len(pivots)], len(pivots), n, M.var))
     if m == n >= GENERIC_MIN_SIZE_FACTORS:
         reduced = degree_reduced(M._r, n, track=False)
         if reduced is not None:  # low degree, large coefficients: elimination is faster here
