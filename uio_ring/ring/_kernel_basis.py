@@ -28,7 +28,14 @@ matrix", SIAM J. Matrix Anal. Appl. 9 (1988)).  Cost: one integer nullspace
 of a (n·(D + deg M + 1)) × (m·(D + 1)) matrix, O(N³) word operations per
 prime of flint's multimodular elimination with N = m·(D + 1); for a tall
 (n+4)×n matrix of degree 2 the minimal indices are ≈ n/2, so N ≈ n²/2.  When
-N would exceed :data:`MAX_UNKNOWNS` the callers use elimination instead.
+N would exceed :data:`MAX_UNKNOWNS`, or M has fewer than :data:`TOEPLITZ_MIN_ROWS`
+rows, the callers use elimination instead.
+
+The same matrices give the transforms (:func:`solve_reduced`): the solution X of
+``X·M = W`` reduced modulo the Popov kernel basis has unknowns exactly at the
+non-leading monomials, which are the pivot columns of the Toeplitz matrix, so it
+is the unique solution of one square system — Hermite's U = [X; K] for
+rank M < rows, tall left inverses, ``solve_left`` for tall V.
 """
 
 from __future__ import annotations

@@ -68,6 +68,10 @@ def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
     """Determinant of the n×n rows ``a``.  Precondition: square (not checked)."""
     if n == 0:
         return bk.ONE
+    if n == 1:
+        return a[0][0] * bk.ONE  # a new object: entries are never shared with a result
+    if n == 2:  # the formula: no evaluation (a 2×2 of degree 256 has 513 points)
+        return a[0][0] * a[1][1] - a[0][1] * a[1][0]
     coeffs = ev.coefficient_mats(a, n, n)
     bound = ev.minor_degree_bound(a, n, n, n)
     xs = ev.first_points(bound + 1)

@@ -32,7 +32,8 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
     Algorithm: the reduced echelon basis of one block-Toeplitz nullspace over Z
     (:mod:`uio_ring.ring._kernel_basis`: Forney's minimal bases as a Gröbner basis
     for the (degree, position) order; O(N³) word operations per prime, N = m·(D+1),
-    D the largest minimal index).  Beyond ``MAX_UNKNOWNS`` unknowns: Euclidean
+    D the largest minimal index).  Below ``TOEPLITZ_MIN_ROWS`` rows or beyond
+    ``MAX_UNKNOWNS`` unknowns: Euclidean
     elimination with a unimodular transform, then the Mulders–Storjohann weak Popov
     form and Popov normalisation of its kernel rows.
     """

@@ -165,8 +165,12 @@ def smith(M: PolyMatrix) -> SmithResult:
     generic path of :mod:`uio_ring.ring._generic` (``S = H·V`` with H the generic
     Hermite form and ``V = [[I, −h], [0, 1]]``).  Otherwise:
     alternating row and column echelon forms with least-degree pivots until
-    the matrix is diagonal, then 2×2 gcd steps for divisibility, then monic
-    normalisation and kernel reduction of the transforms.
+    the matrix is diagonal (python-flint ``xgcd`` when two rows are left), then 2×2
+    gcd steps for divisibility, then monic normalisation; the kernel rows of U and
+    the kernel columns of V become the Popov kernel bases (one block-Toeplitz
+    nullspace each, :mod:`uio_ring.ring._kernel_basis`, from 6 rows) and the other
+    rows/columns are reduced modulo them by one Popov division
+    (:mod:`uio_ring.ring._division`).
 
     Examples
     --------
