@@ -31,7 +31,7 @@ from uio_ring.ring._predicates import (
 )
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
-from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
 __all__ = ["HermiteResult", "hermite", "is_hermite", "row_echelon", "reduce_transform"]
 
@@ -129,6 +129,7 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     --------
     is_hermite, uio_ring.ring.smith.smith
     """
+    M = require_matrix(M, "hermite")
     m, n = M.shape
     var = M.var
     if m == n >= GENERIC_MIN_SIZE:
@@ -222,4 +223,5 @@ def is_hermite(H: PolyMatrix) -> bool:
     >>> is_hermite(PolyMatrix("[[1, d], [0, d**2]]")), is_hermite(PolyMatrix("[[0, 1], [1, 0]]"))
     (True, False)
     """
+    H = require_matrix(H, "is_hermite")
     return is_hermite_raw(H._r, H.rows)

@@ -20,7 +20,7 @@ from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
 from uio_ring.ring._predicates import coprime_maximal_minors, is_unimodular_raw, rank_raw
 from uio_ring.ring.errors import NotUnimodularError
-from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.smith import invariant_factors
 
 __all__ = ["is_unimodular", "is_left_unimodular", "is_right_unimodular", "left_inverse", "right_inverse"]
@@ -28,6 +28,7 @@ __all__ = ["is_unimodular", "is_left_unimodular", "is_right_unimodular", "left_i
 
 def is_unimodular(M: PolyMatrix) -> bool:
     """Square with determinant a nonzero constant (0×0 counts)."""
+    M = require_matrix(M, "is_unimodular")
     return is_unimodular_raw(M._r, *M.shape)
 
 
@@ -82,6 +83,7 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     >>> left_inverse(PolyMatrix("[[1, d], [0, 1]]"))
     PolyMatrix([[1, -d], [0, 1]])
     """
+    M = require_matrix(M, "left_inverse")
     m, n = M.shape
     if m > n > 0 and rank_raw(M._r, m, n) == n and coprime_maximal_minors(M._r, m, n):
         K = popov_left_kernel(M._r, m, n)  # M is left unimodular: X·M = I, X reduced mod K

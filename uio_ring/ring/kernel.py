@@ -18,7 +18,7 @@ from __future__ import annotations
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import popov_left_kernel
-from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
 __all__ = ["left_kernel", "right_kernel"]
 
@@ -37,6 +37,7 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
     elimination with a unimodular transform, then the Mulders–Storjohann weak Popov
     form and Popov normalisation of its kernel rows.
     """
+    M = require_matrix(M, "left_kernel")
     m, n = M.shape
     fast = popov_left_kernel(M._r, m, n)
     if fast is not None:

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from uio_ring.ring._predicates import det_raw, rank_raw
 from uio_ring.ring.errors import DimensionError
-from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.poly import Poly
 
 __all__ = ["rank", "det", "det_raw"]
@@ -31,6 +31,7 @@ __all__ = ["rank", "det", "det_raw"]
 
 def rank(M: PolyMatrix) -> int:
     """Rank of M over Q[δ] (deterministic, exact; see :func:`~uio_ring.ring._predicates.rank_raw`)."""
+    M = require_matrix(M, "rank")
     return rank_raw(M._r, *M.shape)
 
 

@@ -32,7 +32,7 @@ from uio_ring.ring._predicates import (
 )
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
-from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.poly import Poly
 
 __all__ = ["SmithResult", "smith", "invariant_factors", "is_smith"]
@@ -184,6 +184,7 @@ def smith(M: PolyMatrix) -> SmithResult:
     --------
     invariant_factors, is_smith
     """
+    M = require_matrix(M, "smith")
     m, n = M.shape
     var = M.var
     if m == n >= GENERIC_MIN_SIZE:
@@ -253,6 +254,7 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     >>> invariant_factors(PolyMatrix("[[d, 0], [0, d**2], [1, 1]]"))
     (1, d)
     """
+    M = require_matrix(M, "invariant_factors")
     m, n = M.shape
     if m < n:
         return invariant_factors(M.T)
@@ -293,4 +295,5 @@ def is_smith(S: PolyMatrix) -> bool:
     >>> is_smith(PolyMatrix.diag(1, "d")), is_smith(PolyMatrix.diag("d", 1))
     (True, False)
     """
+    S = require_matrix(S, "is_smith")
     return is_smith_raw(S._r, *S.shape)

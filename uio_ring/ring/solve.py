@@ -30,7 +30,7 @@ from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
 from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
-from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
 __all__ = ["solve_left", "solve_right"]
 
@@ -59,6 +59,8 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         No polynomial X exists (the message names the row of W and whether the
         obstruction is rank or divisibility).
     """
+    V = require_matrix(V, "solve_left")
+    W = require_matrix(W, "solve_left")
     V._check("solve_left", W)
     k, n = V.shape
     m, n2 = W.shape
