@@ -44,6 +44,7 @@ Usage::
     python benchmarks/bench_ring.py --families highdeg,tall4
     python benchmarks/bench_ring.py --sage          # fail if SageMath is not importable
     python benchmarks/bench_ring.py --quick         # tiny sizes: a smoke test
+    PYTHONPATH=. python benchmarks/bench_ring.py    # this checkout rather than the installed one
 
 Timings are never asserted anywhere; tests/test_benchmarks_smoke.py only checks
 that ``--quick`` exits 0.
@@ -501,8 +502,14 @@ def main(argv: list[str] | None = None) -> int:
             versions.append(f"{mod} {__import__(mod).__version__}")
         except Exception:
             versions.append(f"{mod} ?")
+    try:  # a script's directory, not the working directory, leads sys.path: say which copy runs
+        versions.append(f"uio_ring from {os.path.dirname(__import__('uio_ring').__file__)}")
+    except Exception:
+        pass
     if "sage" in libs:
         versions.append("sage: yes")
+    elif args.no_sage:
+        versions.append("sage: skipped (--no-sage)")
     else:
         versions.append("sage: not installed (columns omitted)")
     print("# " + ", ".join(versions))
