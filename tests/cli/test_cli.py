@@ -148,3 +148,24 @@ def test_check_previews_the_design_and_names_other_methods(tmp_path, capsys):
     assert main(["check", str(spec)]) == 1
     out = capsys.readouterr().out
     assert "method normal-form applies to this system (needs the option(s) input_bounds)" in out
+
+
+def test_long_checks_say_what_is_taking_long(tmp_path, capsys, monkeypatch):
+    """Exact algebra on large, high-degree systems can take minutes: a line on stderr every
+    HEARTBEAT_SECONDS says what runs (here shortened to make a 4×4, δ-degree-4 check long)."""
+    import random
+
+    import uio_ring.cli.spec_commands as sc
+
+    monkeypatch.setattr(sc, "HEARTBEAT_SECONDS", 0.05)
+    rng = random.Random(1)
+
+    def mat(r, c):
+        return "[" + ", ".join("[" + ", ".join(" + ".join(f"({rng.randint(-3, 3)})*d**{k}" for k in range(5))
+                                               for _ in range(c)) + "]" for _ in range(r)) + "]"
+
+    spec = tmp_path / "big.yaml"
+    spec.write_text(f"system:\n  A: {mat(4, 4)}\n  B: {mat(4, 2)}\n  C: {mat(3, 4)}\n  h: 0.1\n")
+    main(["check", str(spec)])
+    err = capsys.readouterr().err
+    assert "uio-ring: still checking method zheng-bejarano (4 states, δ-degree 4" in err and "Ctrl-C stops" in err

@@ -139,12 +139,51 @@ def _rule(title: str) -> str:
     return f"\n== {title} " + "=" * max(0, 60 - len(title))
 
 
+#: Seconds between the "still working" lines of a long check or design.
+HEARTBEAT_SECONDS = 10.0
+
+
+class _Heartbeat:
+    """``with _Heartbeat("checking …"):`` — a line on stderr every :data:`HEARTBEAT_SECONDS`
+    while the block runs, saying what is taking long (exact algebra on large, high-degree
+    systems can take minutes; Ctrl-C stops it cleanly)."""
+
+    def __init__(self, what: str):
+        import threading
+
+        self.what, self._stop = what, threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def _run(self) -> None:
+        import time
+
+        t0 = time.monotonic()
+        while not self._stop.wait(HEARTBEAT_SECONDS):
+            print(f"uio-ring: still {self.what} ({time.monotonic() - t0:.0f} s; Ctrl-C stops)",
+                  file=sys.stderr, flush=True)
+
+    def __enter__(self) -> _Heartbeat:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+
+
+def _size_text(system: Any) -> str:
+    return f"{system.n_x} states, δ-degree {system.max_delay_degree}"
+
+
 def _checks(spec: Any) -> list[tuple[str, bool, Any, str]]:
     """``(method, holds, report, reason)`` for the spec's method, or for every method under auto."""
     from uio_ring.design.methods import METHODS, get_method
 
     names = list(METHODS) if spec.design.method == "auto" else [spec.design.method]
-    return [(name, *get_method(name).applies(spec.system)) for name in names]
+    out = []
+    for name in names:
+        with _Heartbeat(f"checking method {name} ({_size_text(spec.system)}: exact algebra over Q[δ])"):
+            out.append((name, *get_method(name).applies(spec.system)))
+    return out
 
 
 def _run_check(args: argparse.Namespace) -> int:
@@ -185,10 +224,11 @@ def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
     from uio_ring.errors import DimensionError, DomainError, SimulationError, SpecError
 
     try:
-        if spec.design.method == "auto":
-            res = design_auto(spec.system, **spec.design.options)
-            return res.design, res.method, res.skipped
-        return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
+        with _Heartbeat(f"designing ({spec.design.method}; {_size_text(spec.system)}: exact algebra over Q[δ])"):
+            if spec.design.method == "auto":
+                res = design_auto(spec.system, **spec.design.options)
+                return res.design, res.method, res.skipped
+            return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
     except (DimensionError, DomainError, SimulationError) as exc:  # an option of the design section does not fit
         raise SpecError(str(exc), path="design") from exc
 
