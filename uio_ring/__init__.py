@@ -94,6 +94,13 @@ _LAZY: dict[str, str] = {
     "NormalFormDesign": "uio_ring.design.normal_form",
     "levant_gains": "uio_ring.design.red_gains",
     "normal_form_certificate": "uio_ring.verify.normal_form",
+    # delay-free methods IV (issue 12): high-gain observers with output shaping (Grip & Saberi)
+    "admissibility": "uio_ring.analysis.admissibility",
+    "AdmissibilityReport": "uio_ring.analysis.admissibility",
+    "canonical_form": "uio_ring.analysis.canonical_form",
+    "CanonicalForm": "uio_ring.analysis.canonical_form",
+    "shape": "uio_ring.analysis.output_shaping",
+    "ShapingResult": "uio_ring.analysis.output_shaping",
 }
 
 __all__ = sorted(_LAZY) + ["__version__"]

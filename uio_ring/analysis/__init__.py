@@ -1,6 +1,8 @@
 """Analysis layer: structural properties of delay systems (exact, over Q[δ])."""
 
+from uio_ring.analysis.admissibility import AdmissibilityReport, admissibility
 from uio_ring.analysis.assumptions import check_assumptions
+from uio_ring.analysis.canonical_form import CanonicalForm, canonical_form, observability_indices_of
 from uio_ring.analysis.infinite_structure import (
     InfiniteZeroStructure,
     ObservabilityIndices,
@@ -15,6 +17,15 @@ from uio_ring.analysis.normal_form_applicability import (
     normal_form_applicable,
 )
 from uio_ring.analysis.observability import unknown_input_observability
+from uio_ring.analysis.output_shaping import (
+    ExtendStep,
+    Filter,
+    ShapingResult,
+    ShapingStep,
+    extend,
+    extended_set,
+    shape,
+)
 from uio_ring.analysis.rank_condition import check_rank_condition, matching_matrix
 from uio_ring.analysis.report import (
     AssumptionsReport,
@@ -60,4 +71,17 @@ __all__ = [
     "relative_degrees",
     "rosenbrock_matrix",
     "weakly_unobservable_subspace",
+    # issue 12: high-gain observers with output shaping (Grip & Saberi 2010)
+    "AdmissibilityReport",
+    "CanonicalForm",
+    "ExtendStep",
+    "Filter",
+    "ShapingResult",
+    "ShapingStep",
+    "admissibility",
+    "canonical_form",
+    "extend",
+    "extended_set",
+    "observability_indices_of",
+    "shape",
 ]
