@@ -101,6 +101,10 @@ _LAZY: dict[str, str] = {
     "CanonicalForm": "uio_ring.analysis.canonical_form",
     "shape": "uio_ring.analysis.output_shaping",
     "ShapingResult": "uio_ring.analysis.output_shaping",
+    "high_gain_applicable": "uio_ring.analysis.high_gain_applicability",
+    "design_high_gain": "uio_ring.design.high_gain",
+    "HighGainDesign": "uio_ring.design.high_gain",
+    "high_gain_certificate": "uio_ring.verify.high_gain",
 }
 
 __all__ = sorted(_LAZY) + ["__version__"]

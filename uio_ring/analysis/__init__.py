@@ -3,6 +3,7 @@
 from uio_ring.analysis.admissibility import AdmissibilityReport, admissibility
 from uio_ring.analysis.assumptions import check_assumptions
 from uio_ring.analysis.canonical_form import CanonicalForm, canonical_form, observability_indices_of
+from uio_ring.analysis.high_gain_applicability import HighGainApplicability, high_gain_applicable
 from uio_ring.analysis.infinite_structure import (
     InfiniteZeroStructure,
     ObservabilityIndices,
@@ -84,4 +85,6 @@ __all__ = [
     "extended_set",
     "observability_indices_of",
     "shape",
+    "HighGainApplicability",
+    "high_gain_applicable",
 ]

@@ -35,7 +35,8 @@ from uio_ring.ring import constant as qc
 from uio_ring.ring.certificate import Certificate, Check
 from uio_ring.ring.matrix import PolyMatrix
 
-__all__ = ["CanonicalForm", "canonical_form", "observability_indices_of", "chain_blocks"]
+__all__ = ["CanonicalForm", "canonical_form", "observability_indices_of", "chain_blocks", "shift_blocks",
+           "block_violations"]
 
 
 def observability_indices_of(A: Any, C: Any) -> tuple[int, ...]:
@@ -135,7 +136,7 @@ class CanonicalForm:
         bad = [k for k, (Wk, Wb) in enumerate(zip(self.W, self.W_bar, strict=True))
                if not qc.is_qzero(qc.qmat(Wk) * Gx - Gx * qc.qmat(Wb))]
         add("W_k Γ_x = Γ_x W̄_k", not bad, "W̄_k = Γ_x⁻¹ W_k Γ_x for every k", f"fails for W[{bad[0]}]" if bad else None)
-        Aq, Cq = _shift_blocks(self.q, n)
+        Aq, Cq = shift_blocks(self.q, n)
         r = Cb - Cq
         add("C̄ = blkdiag(C_{q_i})", qc.is_qzero(r), "eq. (9)", qc.to_polymatrix(r))
         r = Ab - Aq - qc.qmat(self.L) * Cb
@@ -171,8 +172,8 @@ class CanonicalForm:
         }
 
 
-def _shift_blocks(q: Sequence[int], n: int) -> tuple[qc.QMat, qc.QMat]:
-    """``blkdiag(A_{q_i})`` (n×n) and ``blkdiag(C_{q_i})`` (p×n).
+def shift_blocks(q: Sequence[int], n: int) -> tuple[qc.QMat, qc.QMat]:
+    """``blkdiag(A_{q_i})`` (n×n) and ``blkdiag(C_{q_i})`` (p×n) as ``fmpq_mat``.
 
     Precondition: ``sum(q) == n`` (not checked).
     """
@@ -185,7 +186,8 @@ def _shift_blocks(q: Sequence[int], n: int) -> tuple[qc.QMat, qc.QMat]:
     return Aq, Cq
 
 
-def _violations(W_bar: Sequence[qc.QMat], q: Sequence[int]) -> tuple[tuple[int, int, int, int, int], ...]:
+def block_violations(W_bar: Sequence[qc.QMat], q: Sequence[int]) -> tuple[tuple[int, int, int, int, int], ...]:
+    """Every ``(k, i, j, r, c)`` with ``W̄_k[i, j][r, c] ≠ 0`` and ``c > r`` (eq. (11) fails there)."""
     out = []
     blocks = chain_blocks(q)
     for k, Wb in enumerate(W_bar):
@@ -292,7 +294,7 @@ def canonical_form(A: Any, C: Any, W: Sequence[Any] = ()) -> CanonicalForm:
     P = qc.to_polymatrix
     return CanonicalForm(
         A=P(Aq), C=P(Cq), W=tuple(P(Wk) for Wk in Ws), Gamma_x=P(Gx), Gamma_y=P(Gy), q=q, L=P(L),
-        A_bar=P(Ab), C_bar=P(Cb), W_bar=tuple(P(W) for W in Wb), violations=_violations(Wb, q),
+        A_bar=P(Ab), C_bar=P(Cb), W_bar=tuple(P(W) for W in Wb), violations=block_violations(Wb, q),
     )
 
 

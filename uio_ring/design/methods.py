@@ -196,14 +196,17 @@ def design_auto(sys: DelaySystem, **options: Any) -> AutoResult:
 
 def _register_builtin() -> None:
     from uio_ring.analysis.assumptions import check_assumptions
+    from uio_ring.analysis.high_gain_applicability import high_gain_applicable
     from uio_ring.analysis.molinari import molinari_sequence
     from uio_ring.analysis.normal_form_applicability import normal_form_applicable
     from uio_ring.design.delay_uio_design import DelayUIODesign
     from uio_ring.design.hierarchical_sta import HierarchicalSTADesign, design_hierarchical_sta
+    from uio_ring.design.high_gain import HighGainDesign, design_high_gain
     from uio_ring.design.normal_form import NormalFormDesign, design_normal_form
     from uio_ring.design.zheng_bejarano import design_zheng_bejarano
     from uio_ring.verify.delay_uio import delay_uio_certificate
     from uio_ring.verify.hierarchical_sta import hierarchical_sta_certificate
+    from uio_ring.verify.high_gain import high_gain_certificate
     from uio_ring.verify.normal_form import normal_form_certificate
 
     register_method(
@@ -272,6 +275,28 @@ def _register_builtin() -> None:
                              "when A is not Hurwitz)"),
                 MethodOption("gains", "rational_rows", "[lambda, alpha] of the super-twisting terms per level "
                              "(l - 1 levels; default [15, 10])"),
+            ),
+            delay_free_only=True,
+        )
+    )
+    register_method(
+        DesignMethod(
+            name="high-gain",
+            summary="high-gain observer with dynamic output shaping (Grip & Saberi 2010); delay-free "
+            "x' = A x + φ(t, x), y = C x with the Jacobian of φ spanned by given W_k",
+            design_class=HighGainDesign,
+            check=high_gain_applicable,
+            design=design_high_gain,
+            certificate=high_gain_certificate,
+            options=(
+                MethodOption("W", "rational_matrices", "the n×n matrices W_k with dφ/dx = Σ ζ_k W_k "
+                             "(linearly independent; default none)"),
+                MethodOption("poles", "rationals", "real negative poles; chain i gets the first q_i "
+                             "(default -1, -2, ...)"),
+                MethodOption("coefficients", "rational_rows", "instead of poles: k*_1..k*_q per chain "
+                             "(s^q + k*_1 s^(q-1) + ... + k*_q Hurwitz), chains longest first"),
+                MethodOption("epsilon", "rational", "the high-gain parameter in (0, 1] (default 1)"),
+                MethodOption("max_order", "integer", "cap of the output filter's order (default n)"),
             ),
             delay_free_only=True,
         )

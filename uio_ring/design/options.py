@@ -34,6 +34,8 @@ KINDS: dict[str, dict[str, Any]] = {
     "rational_rows": {"type": "array", "items": {"type": "array", "items": _SCALAR}},
     "bool": {"type": "boolean"},
     "poles": {"anyOf": [{"type": "array", "items": _SCALAR}, {"enum": ["min-noise"]}]},
+    "rational_matrices": {"type": "array", "items": {"type": "array", "items": {"type": "array", "items": _SCALAR}}},
+    "integer": {"type": "integer", "minimum": 0},
 }
 
 
@@ -54,6 +56,11 @@ def _list(value: Any, path: str) -> list[Any]:
     if not isinstance(value, (list, tuple)):
         raise SpecError(f"expected a list, got {type(value).__name__} {value!r}", path=path)
     return list(value)
+
+
+def _rows(value: Any, path: str) -> tuple[tuple[Fraction, ...], ...]:
+    return tuple(tuple(_exact(v, f"{path}[{i}][{j}]") for j, v in enumerate(_list(row, f"{path}[{i}]")))
+                 for i, row in enumerate(_list(value, path)))
 
 
 @dataclass(frozen=True)
@@ -105,13 +112,17 @@ class MethodOption:
             return tuple(_exact(v, f"{path}[{i}]") for i, v in enumerate(_list(value, path)))
         if self.kind == "rationals":
             return tuple(_exact(v, f"{path}[{i}]") for i, v in enumerate(_list(value, path)))
+        if self.kind == "integer":
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise SpecError(f"expected a non-negative integer, got {value!r}", path=path)
+            return value
+        if self.kind == "rational_matrices":
+            return tuple(_rows(M, f"{path}[{k}]") for k, M in enumerate(_list(value, path)))
         if self.kind == "rational_or_rationals":
             if isinstance(value, (list, tuple)):
                 return tuple(_exact(v, f"{path}[{i}]") for i, v in enumerate(value))
             return _exact(value, path)
-        # rational_rows
-        return tuple(tuple(_exact(v, f"{path}[{i}][{j}]") for j, v in enumerate(_list(row, f"{path}[{i}]")))
-                     for i, row in enumerate(_list(value, path)))
+        return _rows(value, path)  # rational_rows
 
     def schema(self) -> dict[str, Any]:
         """JSON Schema of the option's value, with its description."""
