@@ -11,11 +11,18 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import sympy
+from analysis import paper004 as ex
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from analysis import paper004 as ex
-from uio_ring import DelaySystem, HighGainDesign, PolyMatrix, design_auto, design_high_gain, simulate_observer
+from uio_ring import (
+    DelaySystem,
+    HighGainDesign,
+    PolyMatrix,
+    design_auto,
+    design_high_gain,
+    simulate_observer,
+)
 from uio_ring.design.methods import design_with, get_method
 from uio_ring.errors import DimensionError, DomainError, NotObservableError, SpecError
 
