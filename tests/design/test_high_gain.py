@@ -48,7 +48,7 @@ def test_example3_gains_exact():
                                 [0, q(40, 27)]])
     cert = d.certificate()
     assert cert.ok, str(cert)
-    assert cert["A_z − K_z C_z Hurwitz"].ok
+    assert d.filter_loop() == PolyMatrix([[-3]]) and d.filter_loop_hurwitz
 
 
 def test_example3_spectrum_is_the_requested_one_over_epsilon():
@@ -83,6 +83,30 @@ def test_admissible_set_needs_no_filter_and_poles_option():
 def test_example2_gets_two_integrators():
     d = design_high_gain(example_system(), W=[ex.W1_EXAMPLE2], epsilon="1/3")
     assert d.n_f == 2 and d.q == (4, 3) and d.certificate().ok
+
+
+def test_filter_loop_need_not_be_hurwitz():
+    """The paper asserts A_z − K_z C_z is always Hurwitz.  Counterexample: two chains of 5,
+    the top of chain 2 driven by the bottom of chain 1 (Example 2's pattern): shaping adds
+    four integrators on y_2; with a Hurwitz degree-9 chain polynomial whose first four
+    coefficients are not, A_z − K_z C_z is unstable — while the observer (22) is stable
+    (its matrix is similar to A_e − K C_e) and the error decays through the engine."""
+    n = 10
+    A = [[1 if (j == i + 1 and i != 4) else 0 for j in range(n)] for i in range(n)]
+    C = [[1] + [0] * 9, [0] * 5 + [1] + [0] * 4]
+    W = [[0] * n for _ in range(n)]
+    W[5][4] = 1
+    # (s + 2)(s² + s + 3)(2s² + s + 8)(5s² + 4s + 65)(5s² + 4s + 75)/50 for the long chain, (s + 1)^5
+    coefficients = [["51/10", "2237/50", "7997/50", "15748/25", "78281/50", "160191/50", "260003/50", "25113/5",
+                     "4680"], [5, 10, 10, 5, 1]]
+    d = design_high_gain(DelaySystem(A, [], C, None), W=[W], coefficients=coefficients, epsilon=1)
+    assert (d.q, d.n_f) == ((9, 5), 4)
+    assert d.certificate().ok
+    assert not d.filter_loop_hurwitz and d.to_dict()["filter_loop_hurwitz"] is False
+    assert max(np.linalg.eigvals(np.array(d.filter_loop().to_sympy(), dtype=float)).real) > 0.5
+    assert max(np.linalg.eigvals(d.numeric().F).real) == pytest.approx(-0.25)
+    res = simulate_observer(d, t_final=30.0, dt=1e-3, x0=np.ones(n))
+    assert np.abs(res.error[:, -1]).max() < 0.05 * np.abs(res.error[:, 0]).max()
 
 
 def test_split_example_refused_with_the_cap_message():

@@ -145,6 +145,26 @@ class HighGainDesign(ObserverDesign):
             out = out * chain_polynomial(chain_gains(ks, self.epsilon))
         return out
 
+    def filter_loop(self) -> PolyMatrix:
+        """``A_z − K_z C_z``: the filter part of (22a) on its own (n_f × n_f)."""
+        return self.A_z - self.K_z @ self.C_z
+
+    @property
+    def filter_loop_hurwitz(self) -> bool:
+        """Is ``A_z − K_z C_z`` Hurwitz (exact Routh test; true without a filter)?
+
+        The paper asserts that it always is.  It is not: it need not be once the
+        filter has four or more states (a counterexample is in the tests).  The
+        observer (22) as a whole is stable regardless — its matrix is similar to
+        ``A_e − K C_e`` (see the certificate) — so this is reported, not required.
+        """
+        if not self.n_f:
+            return True
+        F = self.filter_loop()
+        s = Poly.gen("s")
+        charpoly = (PolyMatrix.identity(self.n_f, var="s") * s - PolyMatrix(F.coefficient_lists()[0], var="s")).det()
+        return is_hurwitz_polynomial(charpoly)
+
     def observer_matrices(self) -> dict[str, PolyMatrix]:
         """``F, G_y, G_u, X, initial`` of the implementation (22) with state ``ξ = [z̃; x̂]``."""
         sysm = self.system
@@ -218,6 +238,7 @@ class HighGainDesign(ObserverDesign):
             "Gamma_x": matrix_to_data(self.Gamma_x), "Gamma_y": matrix_to_data(self.Gamma_y),
             "L": matrix_to_data(self.L),
             "K_z": matrix_to_data(self.K_z), "K_x": matrix_to_data(self.K_x),
+            "filter_loop_hurwitz": self.filter_loop_hurwitz,
         }
 
 
