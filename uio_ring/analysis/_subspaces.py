@@ -24,6 +24,8 @@ from uio_ring.errors import DimensionError
 from uio_ring.ring import constant as qc
 
 __all__ = [
+    "vstack",
+    "hstack",
     "square_matrix",
     "observability_stack",
     "kernel",
@@ -36,6 +38,22 @@ __all__ = [
 ]
 
 QMat = qc.QMat
+
+
+def vstack(blocks: Sequence[QMat], ncols: int) -> QMat:
+    """Blocks stacked vertically, through the flat entry lists (no per-entry Python loop).
+
+    Precondition: every block has ``ncols`` columns (not checked).
+    """
+    entries: list[Any] = []
+    for B in blocks:
+        entries.extend(B.entries())
+    return QMat(sum(B.nrows() for B in blocks), ncols, entries)
+
+
+def hstack(blocks: Sequence[QMat], nrows: int) -> QMat:
+    """Blocks side by side.  Precondition: every block has ``nrows`` rows (not checked)."""
+    return vstack([B.transpose() for B in blocks], nrows).transpose()
 
 
 def square_matrix(M: Any, name: str) -> QMat:
@@ -79,7 +97,7 @@ def observability_stack(A: QMat, C: QMat, i: int) -> QMat:
     for _ in range(i):
         blocks.append(row)
         row = row * A
-    return qc.qvstack(blocks, n)
+    return vstack(blocks, n)
 
 
 def kernel(M: QMat) -> QMat:
@@ -104,7 +122,7 @@ def left_solve(M: QMat, v: QMat) -> QMat | None:
     Precondition: ``v`` is 1×(columns of ``M``) (not checked).
     """
     m = M.nrows()
-    aug = qc.qhstack([M.transpose(), v.transpose()], M.ncols())
+    aug = hstack([M.transpose(), v.transpose()], M.ncols())
     R, piv = qc.rref(aug)
     if m in piv:
         return None
@@ -118,7 +136,7 @@ def in_span(basis: QMat, v: QMat) -> bool:
     """``v`` (a column) lies in the span of the columns of ``basis``."""
     if basis.ncols() == 0:
         return qc.is_qzero(v)
-    return qc.qrank(qc.qhstack([basis, v], basis.nrows())) == qc.qrank(basis)
+    return qc.qrank(hstack([basis, v], basis.nrows())) == qc.qrank(basis)
 
 
 def column(M: QMat, j: int) -> QMat:

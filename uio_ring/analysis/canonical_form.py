@@ -270,7 +270,7 @@ def canonical_form(A: Any, C: Any, W: Sequence[Any] = ()) -> CanonicalForm:
                 break
             v = sp.column(S, j)
             g = CAk * v
-            if qc.qrank(qc.qhstack([*gammas, g], p)) > len(gammas):
+            if qc.qrank(sp.hstack([*gammas, g], p)) > len(gammas):
                 gammas.append(g)
                 tops[wanted.pop(0)] = v
         if wanted:  # pragma: no cover - impossible for an observable pair (dimension count)
@@ -281,8 +281,8 @@ def canonical_form(A: Any, C: Any, W: Sequence[Any] = ()) -> CanonicalForm:
         for _ in range(qi - 1):
             chain.append(Aq * chain[-1])
         cols.extend(reversed(chain))
-    Gx = qc.qhstack(cols, n)
-    Gy = qc.qhstack(gammas, p)
+    Gx = sp.hstack(cols, n)
+    Gy = sp.hstack(gammas, p)
     Gxi = qc.qinverse(Gx, "Γ_x")
     Ab = Gxi * Aq * Gx
     Cb = qc.qinverse(Gy, "Γ_y") * Cq * Gx

@@ -264,44 +264,46 @@ def _pm(Q: QMat) -> PolyMatrix:
     return qc.to_polymatrix(Q)
 
 
-def _row_compression(R: QMat, last: QMat) -> tuple[QMat, QMat, QMat]:
-    """``S22, S31, S32`` of ``extend``'s step 2, greedy in natural row order.
+def _row_compression(R: QMat, last: QMat) -> tuple[int, int, QMat, QMat, QMat]:
+    """``r, r̃, S22, S31, S32`` of ``extend``'s step 2, greedy in natural row order.
 
-    A row of ``last`` (= C̃ Ã^{m−1}) independent of the rows of ``R`` and of the
-    rows already kept becomes a unit row of ``S22``; a dependent row j, with
-    ``last_j = a R + b·kept``, gives the row ``e_j − b`` of ``S32`` and ``−a`` of ``S31``.
+    One echelon form of ``[R; last]ᵀ`` (last = C̃ Ã^{m−1}) picks the rows greedily:
+    a row of ``last`` independent of the rows of ``R`` and of the rows of ``last``
+    kept before it is kept (a unit row of ``S22``); a dependent row j, with
+    ``last_j = a·R + b·kept`` read off the echelon form, gives the row ``e_j − b``
+    of ``S32`` and ``−a`` of ``S31``.  ``r`` and ``r̃`` are the pivot counts.
 
     Precondition: ``R`` and ``last`` have the same number of columns (not checked).
     """
     p, n = last.nrows(), last.ncols()
     mR = R.nrows()
-    kept: list[int] = []
+    E, piv = qc.rref(sp.vstack([R, last], n).transpose())
+    pivots = list(piv)
+    r = sum(1 for c in pivots if c < mR)
     s22: list[QMat] = []
     s31: list[QMat] = []
     s32: list[QMat] = []
-    # invariant: the rows of [R; last[kept]] span the rows of [R; last[:j]]
     for j in range(p):
-        row = qc.qzeros(1, n)
-        for c in range(n):
-            row[0, c] = last[j, c]
-        basis = qc.qvstack([R] + [_row(last, i) for i in kept], n)
-        x = sp.left_solve(basis, row)
-        if x is None:
+        col = mR + j
+        if col in pivots:
             e = qc.qzeros(1, p)
             e[0, j] = 1
             s22.append(e)
-            kept.append(j)
             continue
+        # column col of the echelon form: its coordinates on the pivot columns before it
         a = qc.qzeros(1, mR)
-        for c in range(mR):
-            a[0, c] = -x[0, c]
         b = qc.qzeros(1, p)
         b[0, j] = 1
-        for t, i in enumerate(kept):
-            b[0, i] = -x[0, mR + t]
+        for k, c in enumerate(pivots):
+            if c >= col:
+                break
+            if c < mR:
+                a[0, c] = -E[k, col]
+            else:
+                b[0, c - mR] = -E[k, col]
         s31.append(a)
         s32.append(b)
-    return qc.qvstack(s22, p), qc.qvstack(s31, mR), qc.qvstack(s32, p)
+    return r, len(pivots), sp.vstack(s22, p), sp.vstack(s31, mR), sp.vstack(s32, p)
 
 
 def _row(M: QMat, i: int) -> QMat:
@@ -321,7 +323,7 @@ def _invariant_closure(E0: QMat, Ws: Sequence[QMat]) -> QMat:
     while True:
         if E.ncols() == 0:
             return E
-        F = sp.column_basis(qc.qhstack([E] + [W * E for W in Ws], E.nrows()))
+        F = sp.column_basis(sp.hstack([E] + [W * E for W in Ws], E.nrows()))
         if F.ncols() == E.ncols():
             return F
         E = F
@@ -340,11 +342,11 @@ def _completion(T1: QMat, size: int) -> QMat:
             break
         e = qc.qzeros(1, size)
         e[0, j] = 1
-        if qc.qrank(qc.qvstack([T1, *rows, e], size)) > rank:
+        if qc.qrank(sp.vstack([T1, *rows, e], size)) > rank:
             rows.append(e)
             rank += 1
     rows.reverse()
-    return qc.qvstack(rows, size)
+    return sp.vstack(rows, size)
 
 
 def extend(A: Any, C: Any, W: Sequence[Any], m: int) -> ExtendStep:
@@ -383,10 +385,37 @@ def extend(A: Any, C: Any, W: Sequence[Any], m: int) -> ExtendStep:
     Aq, Cq, Ws = sp.read_triple(A, C, W)
     if not isinstance(m, int) or m < 1:
         raise DimensionError(f"m = {m!r}; expected an integer ≥ 1")
-    return _extend(Aq, Cq, Ws, m)
+    return _extend(Aq, Cq, Ws, m).publish()
 
 
-def _extend(A: QMat, C: QMat, Ws: Sequence[QMat], m: int) -> ExtendStep:
+@dataclass(frozen=True)
+class _RawStep:
+    """What :func:`_extend` computed, as ``fmpq_mat`` (published as :class:`ExtendStep`
+    only for the steps that are kept)."""
+
+    m: int
+    r: int
+    r_tilde: int
+    S22: QMat
+    S31: QMat
+    S32: QMat
+    E_sigma: QMat
+    ell: int
+    T1: QMat
+    T2: QMat
+    M: QMat
+    A_z: QMat
+    B_z: QMat
+    C_z: QMat
+    D_z: QMat
+
+    def publish(self) -> ExtendStep:
+        filt = Filter(_pm(self.A_z), _pm(self.B_z), _pm(self.C_z), _pm(self.D_z))
+        return ExtendStep(self.m, self.r, self.r_tilde, _pm(self.S22), _pm(self.S31), _pm(self.S32),
+                          _pm(self.E_sigma), self.ell, _pm(self.T1), _pm(self.T2), _pm(self.M), filt)
+
+
+def _extend(A: QMat, C: QMat, Ws: Sequence[QMat], m: int) -> _RawStep:
     """:func:`extend` on checked matrices.
 
     Precondition: shapes fit and ``m ≥ 1`` (not checked).
@@ -396,28 +425,23 @@ def _extend(A: QMat, C: QMat, Ws: Sequence[QMat], m: int) -> ExtendStep:
     last = C
     for _ in range(m - 1):
         last = last * A
-    Rt = qc.qvstack([R, last], n)
-    r, rt = qc.qrank(R), qc.qrank(Rt)
-    S22, S31, S32 = _row_compression(R, last)
+    r, rt, S22, S31, S32 = _row_compression(R, last)
     Rstar = S22 * last
-    E = _invariant_closure(sp.kernel(Rt), Ws)
+    E = _invariant_closure(sp.kernel(sp.vstack([R, last], n)), Ws)
     X = Rstar * E
     ell = qc.qrank(X)
     k = rt - r
     if ell == 0:
-        T1, T2 = qc.qidentity(k), qc.qzeros(0, k)
-        filt = Filter(_pm(qc.qzeros(0, 0)), _pm(qc.qzeros(0, p)), _pm(qc.qzeros(p, 0)), _pm(qc.qidentity(p)))
-        return ExtendStep(m, r, rt, _pm(S22), _pm(S31), _pm(S32), _pm(E), 0, _pm(T1), _pm(T2),
-                          _pm(qc.qidentity(p)), filt)
+        return _RawStep(m, r, rt, S22, S31, S32, E, 0, qc.qidentity(k), qc.qzeros(0, k), qc.qidentity(p),
+                        qc.qzeros(0, 0), qc.qzeros(0, p), qc.qzeros(p, 0), qc.qidentity(p))
     T1 = sp.kernel(X.transpose()).transpose()  # echelon basis of the left kernel
     T2 = _completion(T1, k)
     Bcal = T2 * S22
-    Dcal = qc.qvstack([S32, T1 * S22], p)
-    M = qc.qvstack([Bcal, Dcal], p)
-    Cz = qc.qvstack([qc.qidentity(ell), qc.qzeros(p - ell, ell)], ell)
-    Dz = qc.qvstack([qc.qzeros(ell, p), Dcal], p)
-    filt = Filter(_pm(qc.qzeros(ell, ell)), _pm(Bcal), _pm(Cz), _pm(Dz))
-    return ExtendStep(m, r, rt, _pm(S22), _pm(S31), _pm(S32), _pm(E), ell, _pm(T1), _pm(T2), _pm(M), filt)
+    Dcal = sp.vstack([S32, T1 * S22], p)
+    M = sp.vstack([Bcal, Dcal], p)
+    Cz = sp.vstack([qc.qidentity(ell), qc.qzeros(p - ell, ell)], ell)
+    Dz = sp.vstack([qc.qzeros(ell, p), Dcal], p)
+    return _RawStep(m, r, rt, S22, S31, S32, E, ell, T1, T2, M, qc.qzeros(ell, ell), Bcal, Cz, Dz)
 
 
 # ----------------------------------------------------------------------------------------------- shape
@@ -427,9 +451,9 @@ def _extended(A: QMat, C: QMat, Ws: Sequence[QMat], Az: QMat, Bz: QMat, Cz: QMat
               ) -> tuple[QMat, QMat, tuple[QMat, ...]]:
     """Eqs. (18)–(19).  Precondition: shapes fit (not checked)."""
     nf, n = Az.nrows(), A.nrows()
-    Ae = qc.qvstack([qc.qhstack([Az, Bz * C], nf), qc.qhstack([qc.qzeros(n, nf), A], n)], nf + n)
-    Ce = qc.qhstack([Cz, Dz * C], C.nrows())
-    We = tuple(qc.qvstack([qc.qzeros(nf, nf + n), qc.qhstack([qc.qzeros(n, nf), W], n)], nf + n) for W in Ws)
+    Ae = sp.vstack([sp.hstack([Az, Bz * C], nf), sp.hstack([qc.qzeros(n, nf), A], n)], nf + n)
+    Ce = sp.hstack([Cz, Dz * C], C.nrows())
+    We = tuple(sp.vstack([qc.qzeros(nf, nf + n), sp.hstack([qc.qzeros(n, nf), W], n)], nf + n) for W in Ws)
     return Ae, Ce, We
 
 
@@ -510,14 +534,15 @@ def shape(A: Any, C: Any, W: Sequence[Any], *, max_order: int | None = None,
     Az, Bz, Cz, Dz = qc.qzeros(0, 0), qc.qzeros(0, p), qc.qzeros(p, 0), qc.qidentity(p)
     m = 1
     trace: list[ShapingStep] = []
-    steps: list[ExtendStep] = []
+    steps: list[_RawStep] = []
     found = False
     message = ""
     iteration = 0
-    # invariant (Lemma 2): at the top of the loop, 𝒮_i(A_e, C_e) is W_e-invariant for all i ≤ m − 1
+    Ae, Ce, We = _extended(Aq, Cq, Ws, Az, Bz, Cz, Dz)
+    # invariant (Lemma 2): at the top of the loop, 𝒮_i(A_e, C_e) is W_e-invariant for all i ≤ m − 1;
+    # (A_e, C_e, W_e) is the extended set of the current filter (rebuilt only when it grows)
     while True:
         iteration += 1
-        Ae, Ce, We = _extended(Aq, Cq, Ws, Az, Bz, Cz, Dz)
         ne = Ae.nrows()
         if m == ne + 1:
             found = True
@@ -541,12 +566,13 @@ def shape(A: Any, C: Any, W: Sequence[Any], *, max_order: int | None = None,
             break
         steps.append(st)
         m = 1
-        tAz, tBz, tCz, tDz = (qc.qmat(M) for M in (st.filter.A_z, st.filter.B_z, st.filter.C_z, st.filter.D_z))
+        tAz, tBz, tCz, tDz = st.A_z, st.B_z, st.C_z, st.D_z
         ell, nf = tAz.nrows(), Az.nrows()
-        Az = qc.qvstack([qc.qhstack([tAz, tBz * Cz], ell), qc.qhstack([qc.qzeros(nf, ell), Az], nf)], ell + nf)
-        Bz = qc.qvstack([tBz * Dz, Bz], p)
-        Cz = qc.qhstack([tCz, tDz * Cz], p)
+        Az = sp.vstack([sp.hstack([tAz, tBz * Cz], ell), sp.hstack([qc.qzeros(nf, ell), Az], nf)], ell + nf)
+        Bz = sp.vstack([tBz * Dz, Bz], p)
+        Cz = sp.hstack([tCz, tDz * Cz], p)
         Dz = tDz * Dz
+        Ae, Ce, We = _extended(Aq, Cq, Ws, Az, Bz, Cz, Dz)
     filt = Filter(_pm(Az), _pm(Bz), _pm(Cz), _pm(Dz))
     return ShapingResult(found, message, filt, _pm(Ae), _pm(Ce), tuple(_pm(W) for W in We), tuple(trace),
-                         tuple(steps), iteration, N, cap)
+                         tuple(st.publish() for st in steps), iteration, N, cap)
