@@ -244,3 +244,35 @@ def test_certificate_on_random_sets(seed, upward):
     cert = d.certificate()
     assert cert.ok, str(cert)
     assert d.n_f == 0 or upward
+
+
+@pytest.mark.parametrize("eps, dt, periods, floquet", [("0.3", 2e-3, 3, 0.0188), ("1", 5e-3, 5, 0.524)])
+def test_engine_with_the_nonlinear_plant_mu_sin_t(eps, dt, periods, floquet):
+    """Example 3 through the one engine: plant x' = A x + sin(t) W_1 x, observer (22) with
+    φ(t, x̂) = sin(t) W_1 x̂.  The fitted decay rate of |x − x̂| is near the Floquet rate
+    −ln ρ / 2π (ρ from the monodromy matrix above) — at ε = 0.3 and at ε = 1."""
+    W1 = np.array(ex.W1_EXAMPLE1, dtype=float)
+    d = example3(eps)
+    res = simulate_observer(d, t_final=periods * 2 * np.pi, dt=dt, x0=[1.0, -0.5, 0.3, 0.2, -0.1],
+                            phi=lambda t, x: np.sin(t) * (W1 @ x))
+    err = np.linalg.norm(res.error, axis=0)
+    sel = res.time > 2 * np.pi
+    rate = -np.polyfit(res.time[sel], np.log(err[sel]), 1)[0]
+    expected = -np.log(floquet) / (2 * np.pi)
+    assert 0.65 * expected < rate < 1.9 * expected
+    assert err[-1] < 0.25 * err[0]
+
+
+def test_engine_phi_errors():
+    from uio_ring.errors import NotSupportedError, SimulationError
+
+    d = example3()
+    with pytest.raises(SimulationError, match="callable"):
+        simulate_observer(d, t_final=0.1, dt=1e-2, phi=3)
+    with pytest.raises(DimensionError, match="shape"):
+        simulate_observer(d, t_final=0.1, dt=1e-2, phi=lambda t, x: x[:2])
+    with pytest.raises(NotSupportedError, match="open loop"):
+        simulate_observer(d, t_final=0.1, dt=1e-2, phi=lambda t, x: x, exact_start=True)
+    nf = design_auto(DelaySystem("[[0, 1], [0, 0]]", [], "[[1, 0]]", None)).design  # no phi_map
+    with pytest.raises(SimulationError, match="phi_map"):
+        simulate_observer(nf, t_final=0.1, dt=1e-2, phi=lambda t, x: 0 * x)

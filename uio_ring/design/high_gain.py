@@ -186,8 +186,9 @@ class HighGainDesign(ObserverDesign):
         return high_gain_certificate(self)
 
     def numeric(self, *, h: Any = None) -> Any:
-        """The float observer model of (22), linear part: ``ξ = [z̃; x̂]``, ``x̂ = [0, I] ξ``,
-        ``ξ(0) = [0; x̂0]``.  Delay-free (``h`` is accepted for the common signature).
+        """The float observer model of (22): ``ξ = [z̃; x̂]``, ``x̂ = [0, I] ξ``, ``ξ(0) = [0; x̂0]``;
+        φ(t, x̂) enters through ``phi_map = [0; I]`` when the engine is given ``phi``
+        (``simulate_observer(d, phi=…)``).  Delay-free (``h`` is accepted for the common signature).
 
         >>> from uio_ring import DelaySystem
         >>> sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [0]]", "[[1, 0]]", None)
@@ -199,7 +200,7 @@ class HighGainDesign(ObserverDesign):
         m = self.observer_matrices()
         G_u = m["G_u"] if self.system.n_u else None
         return model_from_exact(F=m["F"], G_y=m["G_y"], G_u=G_u, X=m["X"], initial=m["initial"],
-                                method=self.method)
+                                method=self.method, phi_map=m["initial"])  # φ(t, x̂) enters x̂' only
 
     # -- display and data ------------------------------------------------------------------
     def __repr__(self) -> str:

@@ -46,8 +46,8 @@ def _h(h: Any) -> float | None:
 def model_from_exact(*, F: Any, G_y: Any, X: Any, G_u: Any = None, D_y: Any = None, D_u: Any = None,
                      W: Any = None, initial: Any = None, h: Any = None, injection: LevantInjection | None = None,
                      held_input: HeldInput | None = None, interpolation: str = "cubic", guard_blocks: int = 0,
-                     z_of_x: Any = None, method: str = "") -> ObserverModel:
-    """:class:`ObserverModel` from exact matrices (``PolyMatrix``; ``F`` and ``initial`` constant)."""
+                     z_of_x: Any = None, method: str = "", phi_map: Any = None) -> ObserverModel:
+    """:class:`ObserverModel` from exact matrices (``PolyMatrix``; ``F``, ``initial`` and ``phi_map`` constant)."""
     stacks: dict[str, Any] = {name: None if M is None else coefficient_arrays(M, name=f"{method}.{name}")
               for name, M in (("G_y", G_y), ("X", X), ("G_u", G_u), ("D_y", D_y), ("D_u", D_u), ("W", W),
                               ("z_of_x", z_of_x))}
@@ -58,6 +58,7 @@ def model_from_exact(*, F: Any, G_y: Any, X: Any, G_u: Any = None, D_y: Any = No
         initial=None if initial is None else constant_array(initial, f"{method}.initial"),
         h=hv, injection=injection, held_input=held_input, interpolation=interpolation,
         guard_blocks=guard_blocks, method=method,
+        phi_map=None if phi_map is None else constant_array(phi_map, f"{method}.phi_map"),
     )
 
 

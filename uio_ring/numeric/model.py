@@ -134,6 +134,9 @@ class ObserverModel:
     z_of_x : stack ``(k + 1, n_z, n_x)`` or None — ``ẑ = z_of_x(δ) x`` along exact trajectories
         (the observer's exact initial state from the plant's; ``exact_start`` runs)
     method : the registry name of the method that made it
+    phi_map : ``(n_z, n_x)`` or None — how a plant nonlinearity enters the observer:
+        ``ξ' = … + phi_map · φ(t, x̂)`` (observers that copy the plant, e.g. the
+        high-gain observer); ``simulate_observer(…, phi=…)`` needs it
     """
 
     F: np.ndarray
@@ -151,6 +154,7 @@ class ObserverModel:
     guard_blocks: int = 0
     z_of_x: Any = None
     method: str = ""
+    phi_map: Any = None
 
     def __post_init__(self) -> None:
         F = np.asarray(self.F, dtype=float)
@@ -183,6 +187,11 @@ class ObserverModel:
         if init.ndim != 2 or init.shape[0] != n_z:
             raise DimensionError(f"ObserverModel.initial has shape {init.shape}; expected ({n_z}, n_init)")
         put(self, "initial", init)
+        if self.phi_map is not None:
+            pm = np.asarray(self.phi_map, dtype=float)
+            if pm.shape != (n_z, n_x):
+                raise DimensionError(f"ObserverModel.phi_map has shape {pm.shape}; expected ({n_z}, {n_x})")
+            put(self, "phi_map", pm)
         if self.interpolation not in INTERPOLATIONS:
             raise SimulationError(f"interpolation={self.interpolation!r}; expected one of {INTERPOLATIONS}")
         if self.h is not None and not (np.isfinite(self.h) and self.h > 0):

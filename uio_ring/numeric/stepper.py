@@ -50,6 +50,7 @@ from uio_ring.errors import DimensionError, SimulationError
 from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
 from uio_ring.numeric.grid import as_float, steps_per_delay
 from uio_ring.numeric.model import DISCRETISATIONS, ObserverModel
+from uio_ring.numeric.nonlinearity import check_phi
 from uio_ring.numeric.taps import delayed_sum
 from uio_ring.numeric.threads import blas_single_thread
 
@@ -494,9 +495,14 @@ class ObserverStepper:
         return self.trajectories(Y, U, **start).x_hat
 
     def trajectories(self, Y: Any, U: Any = None, *, x_hat0: Any = None, z0: Any = None, y_history: Any = None,
-                     u_history: Any = None, progress: Any = None) -> ObserverTrajectories:
+                     u_history: Any = None, progress: Any = None, phi: Any = None) -> ObserverTrajectories:
         """``x̂``, ``ŵ``, ``ẑ`` and ``ξ`` for a whole record (see :meth:`run`); ``progress``:
-        an updater ``progress.update(steps done)`` (models with an injection term step in a loop)."""
+        an updater ``progress.update(steps done)`` (models with an injection term step in a loop).
+
+        ``phi(t, x̂)``: a plant nonlinearity the observer copies, entering ``ξ'`` through
+        the model's ``phi_map`` (delay-free models without injection terms); the step is
+        the exponential Runge–Kutta method of order 2 (ETD2RK) in the φ term.
+        """
         Yv = self._record(Y, self.n_y, "y")
         T = Yv.shape[1]
         Uv = np.zeros((self.n_u, T)) if U is None else self._record(U, self.n_u, "u")
@@ -507,6 +513,8 @@ class ObserverStepper:
             Yrows = np.concatenate([Yh, Yv.T])  # y(t_j) = Yrows[L + j]
             Urows = np.concatenate([Uh, Uv.T])
             xi0 = self._initial_xi(x_hat0, Yrows, Urows, self.history_length, z0)
+            if phi is not None:
+                return self._run_phi(Yrows, Urows, T, xi0, phi, progress)
             if self.inj is None:
                 return self._run_linear(Yrows, Urows, T, xi0)
             return self._run_loop(Yrows, Urows, T, xi0, progress)
@@ -589,6 +597,36 @@ class ObserverStepper:
                 xi = Phi @ xi + Fq[k - 1] + Kl @ inj.l_of(inj.sigma(Meas[k - 1], xi))
             else:  # euler
                 xi = xi + dt * (F @ xi + G[k + 1] + inj.l_of(inj.sigma(Meas[k - 1], xi)))
+            Xi[k] = xi
+            if k % 1024 == 0:
+                if not np.all(np.isfinite(xi)):
+                    raise SimulationError(f"the observer diverged near t = {k * dt:g} (dt = {dt:g})")
+                if progress is not None:
+                    progress.update(k)
+        return self._outputs(Xi + D, Xi, T)
+
+    def _run_phi(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi: np.ndarray, phi: Any,
+                 progress: Any = None) -> ObserverTrajectories:
+        """Linear models with a copied plant nonlinearity: one ETD2RK step at a time,
+        ``N(t, ξ) = phi_map · φ(t, X₀ (ξ + D))``."""
+        m = self.model
+        if m.phi_map is None:
+            raise SimulationError(f"phi: the {m.method or 'observer'} model does not say how φ enters it (phi_map)")
+        if self.inj is not None or not m.is_delay_free:
+            raise SimulationError("phi: supported for delay-free observers without injection terms")
+        f = check_phi(phi, self.n_x)
+        G, D = self._taps(Yrows, Urows, T)
+        Fq = self._forcing_table(G, T) if T > 1 else np.zeros((0, self.n_z))
+        Pm, X0, dt = m.phi_map, self.X[0], self.dt
+        K1, K2 = self.Kl, dt * phi_functions(m.F * dt, 3)[2]
+        Xi = np.empty((T, self.n_z))
+        Xi[0] = xi
+        n0 = Pm @ f(0.0, X0 @ (xi + D[0]))
+        for k in range(1, T):
+            pred = self.Phi @ xi + Fq[k - 1] + K1 @ n0
+            n1 = Pm @ f(k * dt, X0 @ (pred + D[k]))
+            xi = pred + K2 @ (n1 - n0)
+            n0 = Pm @ f(k * dt, X0 @ (xi + D[k]))
             Xi[k] = xi
             if k % 1024 == 0:
                 if not np.all(np.isfinite(xi)):

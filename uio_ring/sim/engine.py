@@ -75,6 +75,7 @@ def simulate_observer(
     feedback: Callable[[float, np.ndarray, np.ndarray | None], Any] | None = None,
     discretisation: str | None = None,
     exact_start: bool = False,
+    phi: Callable[[float, np.ndarray], Any] | None = None,
 ) -> SimulationResult:
     """Simulate the plant and the observer of ``design`` on it.
 
@@ -111,6 +112,11 @@ def simulate_observer(
     exact_start : bool
         Start the plant earlier (w a callable or None) and give the observer the true past
         and its exact initial state (designs whose model has ``z_of_x``).
+    phi : callable, optional
+        ``phi(t, x) -> (n_x,)``: the plant is ``x' = A x + B w + E u + φ(t, x)`` (delay-free;
+        integrated by :func:`uio_ring.sim.nonlinear.simulate_nonlinear`) and the observer
+        copies ``φ(t, x̂)`` through its model's ``phi_map`` (e.g. the high-gain observer).
+        Open loop only.
 
     Returns
     -------
@@ -129,6 +135,18 @@ def simulate_observer(
     nz = as_noise(noise)
     if nz is not None and seed is not None:
         nz = type(nz)(nz.amplitude, seed=seed)
+    if phi is not None:
+        if feedback is not None or exact_start:
+            raise NotSupportedError("phi: nonlinear plants are simulated open loop (no feedback, no exact_start)")
+        from uio_ring.sim.nonlinear import simulate_nonlinear
+
+        res = simulate_nonlinear(sys, phi, t_final=t_final, dt=stepper_dt, w=w, u=u, x0=x0, noise=nz)
+        u_hist = None
+        if model.n_u:
+            u_hist = input_samples(u, model.n_u, j_min=-stepper.history_length, j_max=-1, n_steps=res.t.size - 1,
+                                   dt=stepper_dt, name="u")
+        traj = stepper.trajectories(res.y, res.u if model.n_u else None, x_hat0=x_hat0, u_history=u_hist, phi=phi)
+        return _result(res, traj, stepper, model)
     if feedback is not None:
         if u is not None:
             raise SimulationError("give u or feedback, not both")
