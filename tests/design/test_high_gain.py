@@ -276,3 +276,17 @@ def test_engine_phi_errors():
     nf = design_auto(DelaySystem("[[0, 1], [0, 0]]", [], "[[1, 0]]", None)).design  # no phi_map
     with pytest.raises(SimulationError, match="phi_map"):
         simulate_observer(nf, t_final=0.1, dt=1e-2, phi=lambda t, x: 0 * x)
+
+
+def test_example_spec_through_the_cli(tmp_path, capsys):
+    from pathlib import Path
+
+    from uio_ring.cli import main
+    from uio_ring.spec import load_design
+
+    spec = Path(__file__).resolve().parents[2] / "examples" / "grip_saberi_example3.yaml"
+    assert main(["design", str(spec), "--out", str(tmp_path)]) == 0
+    assert "method high-gain, certificate ok" in capsys.readouterr().out
+    d = load_design(tmp_path / "grip_saberi_example3.json")
+    assert isinstance(d, HighGainDesign) and d.K_z == PolyMatrix([[3, 1]]) and d == example3()
+    assert main(["check", str(spec)]) == 0
