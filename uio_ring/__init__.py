@@ -102,6 +102,7 @@ _LAZY: dict[str, str] = {
     "shape": "uio_ring.analysis.output_shaping",
     "ShapingResult": "uio_ring.analysis.output_shaping",
     "high_gain_applicable": "uio_ring.analysis.high_gain_applicability",
+    "jacobian_basis": "uio_ring.analysis.jacobian_basis",
     "design_high_gain": "uio_ring.design.high_gain",
     "HighGainDesign": "uio_ring.design.high_gain",
     "high_gain_certificate": "uio_ring.verify.high_gain",

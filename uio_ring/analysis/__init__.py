@@ -13,6 +13,7 @@ from uio_ring.analysis.infinite_structure import (
     observability_indices,
     relative_degrees,
 )
+from uio_ring.analysis.jacobian_basis import JacobianBasis, jacobian_basis
 from uio_ring.analysis.normal_form_applicability import (
     NormalFormApplicability,
     normal_form_applicable,
@@ -87,4 +88,6 @@ __all__ = [
     "shape",
     "HighGainApplicability",
     "high_gain_applicable",
+    "JacobianBasis",
+    "jacobian_basis",
 ]
