@@ -290,3 +290,24 @@ def test_example_spec_through_the_cli(tmp_path, capsys):
     d = load_design(tmp_path / "grip_saberi_example3.json")
     assert isinstance(d, HighGainDesign) and d.K_z == PolyMatrix([[3, 1]]) and d.K == example3().K
     assert main(["check", str(spec)]) == 0
+
+
+def test_theorem1_bound_example3():
+    """P_i of H_i = A_3 − K* C_3 (the paper's Lyapunov equation), and ε* with μ_max = 1: the 2-norm
+    version gives 1/(4·104.06) ≈ 2.40e−3; the exact rational bound (1-norms) is a little smaller."""
+    from uio_ring.design.high_gain import lyapunov_solution
+
+    H = PolyMatrix([["-9/10", 1, 0], ["-7/25", 0, 1], ["-1/25", 0, 0]])
+    P = lyapunov_solution(H)
+    assert P @ H + H.T @ P == -PolyMatrix.identity(3) and P == P.T
+    Pf = np.array(P.to_sympy(), dtype=float)
+    assert np.linalg.norm(Pf, 2) == pytest.approx(104.0645, rel=1e-5)
+    d = design_high_gain(example_system(), W=[ex.W1_EXAMPLE1], coefficients=[K_STAR], epsilon="0.3", mu_bounds=[1])
+    b = d.epsilon_bound
+    assert isinstance(b, Fraction) and b == 1 / (4 * Fraction(np.abs(Pf).sum(axis=0).max()).limit_denominator(10**6))
+    assert 2.2e-3 < b < 1 / (4 * np.linalg.norm(Pf, 2)) < 2.41e-3
+    assert "epsilon_bound=" in repr(d) and d.to_dict()["epsilon_bound"] == str(b)
+    assert example3().epsilon_bound is None
+    with pytest.raises(DimensionError, match="mu_bounds"):
+        design_high_gain(example_system(), W=[ex.W1_EXAMPLE1], mu_bounds=[1, 2])
+    assert get_method("high-gain").read_options({"mu_bounds": [1]})["mu_bounds"] == (1,)

@@ -48,7 +48,7 @@ from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import Poly, exact_fraction
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["HighGainDesign", "design_high_gain", "chain_gains"]
+__all__ = ["HighGainDesign", "design_high_gain", "chain_gains", "theorem1_bound", "lyapunov_solution"]
 
 
 def chain_gains(coefficients: Sequence[Fraction], epsilon: Fraction) -> tuple[Fraction, ...]:
@@ -89,6 +89,8 @@ class HighGainDesign(ObserverDesign):
         Its canonical form: ``x_e = Γ_x x̄``, ``y_f = Γ_y ȳ``, ``Ā = blkdiag(A_{q_i}) + L C̄``.
     K
         ``Γ_x K̄ Γ_y⁻¹`` (n_e × p); ``K_z`` its first n_f rows, ``K_x`` the rest.
+    mu_bounds
+        Bounds ``μ_k,max`` of ``|ζ_k|`` when given: then :attr:`epsilon_bound` is Theorem 1's ε*.
     shaping, canonical, applicability
         The analysis records (not compared, not saved).
     """
@@ -111,6 +113,7 @@ class HighGainDesign(ObserverDesign):
     Gamma_y: PolyMatrix
     L: PolyMatrix
     K: PolyMatrix
+    mu_bounds: tuple[Fraction, ...] | None = None
     shaping: ShapingResult | None = field(default=None, compare=False)
     canonical: CanonicalForm | None = field(default=None, compare=False)
     applicability: HighGainApplicability | None = field(default=None, compare=False)
@@ -133,6 +136,14 @@ class HighGainDesign(ObserverDesign):
     def K_bar(self) -> PolyMatrix:
         """``blkdiag(K̃_i) + L`` (eq. (12)) in canonical coordinates."""
         return _k_tilde(self.q, self.coefficients, self.epsilon) + self.L
+
+    @property
+    def epsilon_bound(self) -> Fraction | None:
+        """Theorem 1's sufficient bound: the error is exponentially stable for ``0 < ε < epsilon_bound``
+        (None without ``mu_bounds``); see :func:`theorem1_bound`."""
+        if self.mu_bounds is None:
+            return None
+        return theorem1_bound(self.q, self.coefficients, self.Gamma_x, self.W_e, self.mu_bounds)
 
     def error_matrix(self) -> PolyMatrix:
         """``A_e − K C_e``: the linear part of the error dynamics of ``[z̃; x − x̂]``."""
@@ -204,7 +215,8 @@ class HighGainDesign(ObserverDesign):
 
     # -- display and data ------------------------------------------------------------------
     def __repr__(self) -> str:
-        return (f"HighGainDesign(q={self.q}, n_f={self.n_f}, epsilon={self.epsilon}, "
+        bound = "" if self.mu_bounds is None else f", epsilon_bound={self.epsilon_bound}"
+        return (f"HighGainDesign(q={self.q}, n_f={self.n_f}, epsilon={self.epsilon}{bound}, "
                 f"coefficients={[[str(k) for k in ks] for ks in self.coefficients]})")
 
     def __str__(self) -> str:
@@ -240,6 +252,8 @@ class HighGainDesign(ObserverDesign):
             "L": matrix_to_data(self.L),
             "K_z": matrix_to_data(self.K_z), "K_x": matrix_to_data(self.K_x),
             "filter_loop_hurwitz": self.filter_loop_hurwitz,
+            "mu_bounds": None if self.mu_bounds is None else [str(m) for m in self.mu_bounds],
+            "epsilon_bound": None if self.mu_bounds is None else str(self.epsilon_bound),
         }
 
 
@@ -322,9 +336,78 @@ def _gain(cf: CanonicalForm, coeffs: tuple[tuple[Fraction, ...], ...], epsilon: 
     return qc.to_polymatrix(K)
 
 
+def lyapunov_solution(H: PolyMatrix) -> PolyMatrix:
+    """The symmetric ``P`` with ``P H + Hᵀ P = −I`` (exact; H Hurwitz), by the Kronecker form.
+
+    >>> lyapunov_solution(PolyMatrix([[-1]]))
+    PolyMatrix([[1/2]])
+    """
+    q = H.rows
+    Hq = qc.qmat(H)
+    n2 = q * q
+    M = qc.qzeros(n2, n2)
+    rhs = qc.qzeros(n2, 1)
+    # row-major vec: (P H)_{ab} = Σ_c P_{ac} H_{cb},  (Hᵀ P)_{ab} = Σ_c H_{ca} P_{cb}
+    for a in range(q):
+        for b in range(q):
+            r = a * q + b
+            rhs[r, 0] = -1 if a == b else 0
+            for c in range(q):
+                M[r, a * q + c] += Hq[c, b]
+                M[r, c * q + b] += Hq[c, a]
+    P = qc.qsolve(M, rhs, "the Lyapunov equation")
+    return PolyMatrix([[qc.frac(P[a * q + b, 0]) for b in range(q)] for a in range(q)]) if q else PolyMatrix.zeros(0, 0)
+
+
+def _norm1(rows: list[list[Fraction]]) -> Fraction:
+    """Largest absolute column sum (0 for an empty matrix)."""
+    if not rows or not rows[0]:
+        return Fraction(0)
+    return max(sum((abs(r[j]) for r in rows), Fraction(0)) for j in range(len(rows[0])))
+
+
+def theorem1_bound(q: tuple[int, ...], coefficients: tuple[tuple[Fraction, ...], ...], Gamma_x: PolyMatrix,
+                   W_e: Sequence[PolyMatrix], mu_bounds: Sequence[Any]) -> Fraction:
+    """Theorem 1 of Grip & Saberi (2010) as an exact sufficient bound: stable for ``0 < ε < bound``.
+
+    ``bound = min(1, 1 / (2 Σ_i ‖P_i‖ Σ_k Σ_j μ_k,max M_kij))`` with ``P_i H_i + H_iᵀ P_i = −I``,
+    ``H_i = A_{q_i} − K*_i C_{q_i}``, and rational upper bounds of the 2-norms:
+    ``‖P_i‖₂ ≤ ‖P_i‖₁`` (P symmetric) and ``M_kij = max(‖|W̄_kij|‖₁, ‖|W̄_kij|‖_∞)``
+    (for ε ≤ 1 every entry of ``Θ_i W̄_kij Θ_j⁻¹`` is at most the entry of ``W̄_kij`` in size).
+    Very conservative, as the paper says; a little more so than with 2-norms.
+
+    >>> theorem1_bound((1,), ((Fraction(2),),), PolyMatrix([[1]]), [PolyMatrix([[1]])], [1])
+    Fraction(1, 1)
+    """
+    if len(mu_bounds) != len(W_e):
+        raise DimensionError(f"mu_bounds has {len(mu_bounds)} values; expected {len(W_e)} (one per W_k)")
+    mus = [exact_fraction(m, f"mu_bounds[{k}]") for k, m in enumerate(mu_bounds)]
+    if any(m < 0 for m in mus):
+        raise DomainError("mu_bounds must be non-negative")
+    Gx = qc.qmat(Gamma_x)
+    Gxi = qc.qinverse(Gx, "Γ_x")
+    Wb = [qc.to_fractions(Gxi * qc.qmat(W) * Gx) for W in W_e]
+    blocks = chain_blocks(q)
+    total = Fraction(0)
+    for i, (si, qi) in enumerate(blocks):
+        H = [[Fraction(1) if c == r + 1 else Fraction(0) for c in range(qi)] for r in range(qi)]
+        for r in range(qi):
+            H[r][0] -= Fraction(coefficients[i][r])
+        P = lyapunov_solution(PolyMatrix(H))
+        normP = _norm1([[Fraction(x) for x in row] for row in P.coefficient_lists()[0]])
+        inner = Fraction(0)
+        for k, Wk in enumerate(Wb):
+            for sj, qj in blocks:
+                blk = [[abs(Wk[si + r][sj + c]) for c in range(qj)] for r in range(qi)]
+                M = max(_norm1(blk), _norm1([list(col) for col in zip(*blk, strict=True)]))
+                inner += mus[k] * M
+        total += normP * inner
+    return Fraction(1) if total == 0 else min(Fraction(1), 1 / (2 * total))
+
+
 def design_high_gain(sys: DelaySystem, *, W: Any = None, poles: Any = None, coefficients: Any = None,
-                     epsilon: Any = 1, max_order: Any = None, report: HighGainApplicability | None = None,
-                     ) -> HighGainDesign:
+                     epsilon: Any = 1, max_order: Any = None, mu_bounds: Any = None,
+                     report: HighGainApplicability | None = None) -> HighGainDesign:
     """A high-gain observer for ``x' = A x + E u + φ(t, x)``, ``y = C x + F u`` (Grip & Saberi 2010).
 
     Parameters
@@ -344,9 +427,12 @@ def design_high_gain(sys: DelaySystem, *, W: Any = None, poles: Any = None, coef
         is used for every chain when all chains have its length.
     epsilon
         ε ∈ (0, 1] (exact; ``"0.3"`` is 3/10).  Theorem 1: small enough ε works
-        for bounded ζ_k; the bound it gives is very conservative and not computed.
+        for bounded ζ_k (see ``mu_bounds``).
     max_order
         Cap of the output filter's order (default n).
+    mu_bounds
+        Bounds of ``|ζ_k|`` (one per ``W_k``): the design then reports Theorem 1's
+        sufficient bound ``epsilon_bound`` next to ε (exact, very conservative).
     report
         The applicability report, when the caller has it.
 
@@ -386,10 +472,14 @@ def design_high_gain(sys: DelaySystem, *, W: Any = None, poles: Any = None, coef
         raise NotObservableError(f"output shaping: {shaping.message}", report=shaping)
     cf = canonical_form(shaping.A_e, shaping.C_e, shaping.W_e)
     coeffs = _chain_coefficients(cf.q, poles, coefficients)
+    mus = None
+    if mu_bounds is not None:
+        mus = tuple(exact_fraction(m, f"mu_bounds[{k}]") for k, m in enumerate(mu_bounds))
+        theorem1_bound(cf.q, coeffs, cf.Gamma_x, shaping.W_e, mus)  # validates the bounds
     f = shaping.filter
     return HighGainDesign(
         system=sys, W=Ws, epsilon=eps, coefficients=coeffs, q=cf.q,
         A_z=f.A_z, B_z=f.B_z, C_z=f.C_z, D_z=f.D_z, A_e=shaping.A_e, C_e=shaping.C_e, W_e=shaping.W_e,
-        Gamma_x=cf.Gamma_x, Gamma_y=cf.Gamma_y, L=cf.L, K=_gain(cf, coeffs, eps),
+        Gamma_x=cf.Gamma_x, Gamma_y=cf.Gamma_y, L=cf.L, K=_gain(cf, coeffs, eps), mu_bounds=mus,
         shaping=shaping, canonical=cf, applicability=report,
     )

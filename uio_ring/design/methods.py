@@ -297,6 +297,8 @@ def _register_builtin() -> None:
                              "(s^q + k*_1 s^(q-1) + ... + k*_q Hurwitz), chains longest first"),
                 MethodOption("epsilon", "rational", "the high-gain parameter in (0, 1] (default 1)"),
                 MethodOption("max_order", "integer", "cap of the output filter's order (default n)"),
+                MethodOption("mu_bounds", "rationals", "bounds of |zeta_k|, one per W_k: report Theorem 1's "
+                             "sufficient bound on epsilon"),
             ),
             delay_free_only=True,
         )
