@@ -286,6 +286,8 @@ def _chain_coefficients(q: tuple[int, ...], poles: Any, coefficients: Any) -> tu
     ``coefficients`` (one row per chain, or one row for chains that all have its length)."""
     if poles is not None and coefficients is not None:
         raise DomainError("give poles or coefficients, not both")
+    if isinstance(poles, str):
+        raise DomainError(f"poles = {poles!r}: the high-gain method takes a list of negative rationals")
     if coefficients is not None:
         rows = [tuple(exact_fraction(k, f"coefficients[{i}][{j}]") for j, k in enumerate(r))
                 for i, r in enumerate(coefficients)]
