@@ -311,3 +311,17 @@ def test_theorem1_bound_example3():
     with pytest.raises(DimensionError, match="mu_bounds"):
         design_high_gain(example_system(), W=[ex.W1_EXAMPLE1], mu_bounds=[1, 2])
     assert get_method("high-gain").read_options({"mu_bounds": [1]})["mu_bounds"] == (1,)
+
+
+def test_W_from_phi_as_sympy_expressions():
+    import sympy
+
+    names = ["x11", "x12", "x21", "x22", "x23"]
+    x11, x12, x21, x22, x23 = (sympy.Symbol(n) for n in names)
+    mu = sympy.sin(sympy.Symbol("t"))
+    phi = [mu * (-x12 + x22), mu * x23, mu * (-x12 + x22), mu * (x11 + x23), mu * x12]
+    sys = DelaySystem(ex.A, [], ex.C, None, state_names=names)
+    d = design_high_gain(sys, phi=phi, coefficients=[K_STAR], epsilon="0.3")
+    assert d.W == (PolyMatrix(ex.W1_EXAMPLE1),) and d.K_z == PolyMatrix([[3, 1]])
+    with pytest.raises(DomainError, match="not both"):
+        design_high_gain(sys, phi=phi, W=[ex.W1_EXAMPLE1])

@@ -407,8 +407,8 @@ def theorem1_bound(q: tuple[int, ...], coefficients: tuple[tuple[Fraction, ...],
     return Fraction(1) if total == 0 else min(Fraction(1), 1 / (2 * total))
 
 
-def design_high_gain(sys: DelaySystem, *, W: Any = None, poles: Any = None, coefficients: Any = None,
-                     epsilon: Any = 1, max_order: Any = None, mu_bounds: Any = None,
+def design_high_gain(sys: DelaySystem, *, W: Any = None, phi: Any = None, poles: Any = None,
+                     coefficients: Any = None, epsilon: Any = 1, max_order: Any = None, mu_bounds: Any = None,
                      report: HighGainApplicability | None = None) -> HighGainDesign:
     """A high-gain observer for ``x' = A x + E u + φ(t, x)``, ``y = C x + F u`` (Grip & Saberi 2010).
 
@@ -420,6 +420,10 @@ def design_high_gain(sys: DelaySystem, *, W: Any = None, poles: Any = None, coef
         The ``W_k`` (n×n rational) with ``∂φ/∂x = Σ ζ_k W_k``; default none (linear plant).
         Use a linearly independent set: splitting one ζ into several can make a
         solvable problem unsolvable (the paper's §5.6).
+    phi
+        Instead of ``W``: φ(t, x) as n sympy expressions in ``sympy.Symbol(name)`` for
+        the system's state names (and any other symbols, e.g. t); the ``W_k`` are then
+        :func:`~uio_ring.analysis.jacobian_basis.jacobian_basis` of φ.
     poles
         Real negative rationals; chain i gets ``Π_{j ≤ q_i} (s − poles[j])``
         (default ``−1, −2, …``).
@@ -466,6 +470,14 @@ def design_high_gain(sys: DelaySystem, *, W: Any = None, poles: Any = None, coef
     if not report.holds:
         raise NotObservableError(f"the high-gain observer does not apply: {report.reason}", report=report)
     n = sys.n_x
+    if phi is not None:
+        if W is not None:
+            raise DomainError("give W or phi, not both")
+        import sympy
+
+        from uio_ring.analysis.jacobian_basis import jacobian_basis
+
+        W = jacobian_basis(phi, [sympy.Symbol(name) for name in sys.state_names]).W
     Ws = _read_W(W, n)
     eps = _read_epsilon(epsilon)
     cap = None if max_order is None else int(exact_fraction(max_order, "max_order"))
