@@ -325,3 +325,30 @@ def test_W_from_phi_as_sympy_expressions():
     assert d.W == (PolyMatrix(ex.W1_EXAMPLE1),) and d.K_z == PolyMatrix([[3, 1]])
     with pytest.raises(DomainError, match="not both"):
         design_high_gain(sys, phi=phi, W=[ex.W1_EXAMPLE1])
+
+
+def test_spec_nonlinearity_is_read_and_simulated():
+    from pathlib import Path
+
+    from uio_ring.cli.spec_commands import _simulate
+    from uio_ring.design.methods import design_with
+    from uio_ring.spec import load_spec_text
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "grip_saberi_example3.yaml"
+    text = path.read_text(encoding="utf-8").replace("t_final: 20", "t_final: 4")
+    spec = load_spec_text(text)
+    assert spec.simulate.nonlinearity[1] == "sin(t)*x23"
+    phi = spec.simulate.nonlinearity_function()
+    assert phi(np.pi / 2, np.arange(5.0)).tolist() == (np.array(ex.W1_EXAMPLE1) @ np.arange(5.0)).tolist()
+    d = design_with(spec.design.method, spec.system, **spec.design.options)
+    res = _simulate(d, spec, False)
+    W1 = np.array(ex.W1_EXAMPLE1, dtype=float)
+    ref = simulate_observer(d, t_final=4.0, dt=0.002, x0=[1, -0.5, 0.3, 0.2, -0.1],
+                            phi=lambda t, x: np.sin(t) * (W1 @ x))
+    assert np.allclose(res.error, ref.error)
+    bad = text.replace('"sin(t)*x23"', '"sin(t)*x24"')
+    with pytest.raises(SpecError, match=r"unknown name 'x24'") as info:
+        load_spec_text(bad)
+    assert info.value.path == "simulate.nonlinearity[1]"
+    with pytest.raises(SpecError, match="4 expression"):
+        load_spec_text(text.replace('"sin(t)*x12"]', ']').replace(', ]', ']'))

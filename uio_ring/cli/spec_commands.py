@@ -416,6 +416,7 @@ def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
         x_hat0=x_hat0,
         discretisation=sim.discretisation,
         progress=progress,
+        phi=sim.nonlinearity_function(),
     )
 
 

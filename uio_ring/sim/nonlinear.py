@@ -42,7 +42,8 @@ def simulate_nonlinear(sys: Any, phi: Any, *, t_final: Any, dt: Any, w: Any = No
     phi : callable
         ``phi(t, x) -> (n_x,)``.
     t_final, dt, w, u, x0, noise
-        As for :func:`uio_ring.sim.plant.simulate` (``x0`` a vector; default 0).
+        As for :func:`uio_ring.sim.plant.simulate` (``x0`` a vector, or a callable of t
+        of which only ``x(0)`` is used; default 0).
 
     Returns
     -------
@@ -60,6 +61,8 @@ def simulate_nonlinear(sys: Any, phi: Any, *, t_final: Any, dt: Any, w: Any = No
     W = input_samples(w, S.n_w, j_min=0, j_max=n, n_steps=n, dt=dtv, name="w")
     U = input_samples(u, S.n_u, j_min=0, j_max=n, n_steps=n, dt=dtv, name="u")
     lin = B @ W + E @ U  # (n_x, n + 1)
+    if callable(x0):  # a history x(t), t ≤ 0 (delay-free: only x(0) is used)
+        x0 = x0(np.zeros(1))
     x = np.zeros(S.n_x) if x0 is None else np.asarray(x0, dtype=float).reshape(-1)
     if x.shape != (S.n_x,):
         raise DimensionError(f"x0 has shape {np.shape(x0)}; expected ({S.n_x},)")

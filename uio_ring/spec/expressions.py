@@ -29,7 +29,7 @@ from typing import Any
 
 from uio_ring.errors import SpecError
 
-__all__ = ["parse_signal", "FUNCTIONS", "MAX_LENGTH", "MAX_NESTING"]
+__all__ = ["parse_signal", "parse_state_function", "FUNCTIONS", "MAX_LENGTH", "MAX_NESTING"]
 
 #: Longest expression accepted (characters).
 MAX_LENGTH = 2000
@@ -48,8 +48,9 @@ Node = tuple[Any, ...]
 
 
 class _Parser:
-    def __init__(self, text: str):
+    def __init__(self, text: str, variables: frozenset[str] = frozenset()):
         self.text = text
+        self.variables = variables
         self.tokens: list[tuple[str, str, int]] = []
         for m in _TOKEN.finditer(text):
             kind = m.lastgroup or "bad"
@@ -134,6 +135,8 @@ class _Parser:
             self.i += 1
             if value == "t":
                 return ("t",)
+            if value in self.variables:
+                return ("var", value)
             if value in _CONSTANTS:
                 return ("num", _CONSTANTS[value])
             if value in FUNCTIONS:
@@ -145,9 +148,10 @@ class _Parser:
                 if not self.take(")"):
                     raise self.error("')'")
                 return ("call", value, arg)
+            names = "t, " + "".join(f"{v}, " for v in sorted(self.variables))
             raise SpecError(
                 f"cannot parse {_short(self.text)} at column {pos + 1}: unknown name {_short(value)}; "
-                f"use t, pi, e or one of {', '.join(FUNCTIONS)}"
+                f"use {names}pi, e or one of {', '.join(FUNCTIONS)}"
             )
         if self.take("("):
             self.enter()
@@ -170,7 +174,7 @@ def _program(node: Node) -> list[Node]:
     while stack:
         item, expanded = stack.pop()
         kind = item[0]
-        if kind in ("num", "t"):
+        if kind in ("num", "t", "var"):
             out.append(item)
         elif expanded:
             out.append((kind, item[1]) if kind == "call" else (kind,))
@@ -210,6 +214,80 @@ def _compile(node: Node) -> Callable[[Any], Any]:
         return stack[0]
 
     return run
+
+
+def _compile_env(node: Node) -> Callable[[dict[str, Any]], Any]:
+    """Like :func:`_compile`, for a function of an environment ``{"t": …, name: …}`` (the
+    same postfix program, without recursion)."""
+    import numpy as np
+
+    program = _program(node)
+    binary = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power}
+    functions = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None)) for name in FUNCTIONS}
+
+    def run(env: dict[str, Any]) -> Any:
+        stack: list[Any] = []
+        with np.errstate(all="ignore"):  # non-finite values are caught where the simulation is checked
+            for op in program:
+                kind = op[0]
+                if kind == "num":
+                    stack.append(op[1])
+                elif kind == "t":
+                    stack.append(env["t"])
+                elif kind == "var":
+                    stack.append(env[op[1]])
+                elif kind == "neg":
+                    stack.append(-stack.pop())
+                elif kind == "call":
+                    x = stack.pop()
+                    stack.append(np.where(x >= 0, 1.0, 0.0) if op[1] == "step" else functions[op[1]](x))
+                else:
+                    b = stack.pop()
+                    stack.append(binary[kind](stack.pop(), b))
+        return stack[0]
+
+    return run
+
+
+def parse_state_function(texts: Any, variables: Any) -> Callable[[float, Any], Any]:
+    """``φ(t, x)`` from one expression per component, in ``t`` and the state names ``variables``.
+
+    Same grammar as :func:`parse_signal`, plus the names in ``variables`` (identifiers:
+    the state names of the system).  The result maps a float t and a vector x
+    (``len(variables)`` entries) to an array of ``len(texts)`` floats.
+
+    >>> import numpy as np
+    >>> phi = parse_state_function(["sin(t)*x2", "-x1^3"], ["x1", "x2"])
+    >>> phi(np.pi / 2, np.array([2.0, 3.0])).tolist()
+    [3.0, -8.0]
+    """
+    import numpy as np
+
+    names = list(variables)
+    bad = [v for v in names if not re.fullmatch(r"[A-Za-z_]\w*", v) or v == "t" or v in _CONSTANTS or v in FUNCTIONS]
+    if bad:
+        raise SpecError(f"state name {bad[0]!r} cannot be used in an expression: name the states with "
+                        "identifiers (letters, digits, _) other than t, pi, e and the function names")
+    fs = []
+    for text in texts:
+        if not isinstance(text, str):
+            text = repr(float(text))
+        if len(text) > MAX_LENGTH:
+            raise SpecError(f"expression longer than {MAX_LENGTH} characters")
+        if not text.strip():
+            raise SpecError("an empty expression; write e.g. 0 or sin(t)*x1")
+        p = _Parser(text, frozenset(names))
+        node = p.expr()
+        if p.peek()[0] != "end":
+            raise p.error("an operator or the end of the text")
+        fs.append(_compile_env(node))
+
+    def phi(t: float, x: Any) -> Any:
+        env = dict(zip(names, np.asarray(x, dtype=float).reshape(-1), strict=True))
+        env["t"] = float(t)
+        return np.array([float(f(env)) for f in fs])
+
+    return phi
 
 
 def parse_signal(text: Any) -> Callable[[Any], Any]:

@@ -115,6 +115,16 @@ class SimulateSpec:
     noise_seed: int = 0
     settle: Fraction | None = None
     discretisation: str = "implicit"
+    nonlinearity: tuple[str, ...] = ()
+    state_names: tuple[str, ...] = ()
+
+    def nonlinearity_function(self) -> Any:
+        """``φ(t, x)`` of ``nonlinearity`` (expressions in t and the state names), or None."""
+        if not self.nonlinearity:
+            return None
+        from uio_ring.spec.expressions import parse_state_function
+
+        return parse_state_function(self.nonlinearity, self.state_names)
 
     def signal(self, which: str) -> Any:
         """A function ``t ↦ array (k, len(t))`` for ``w``, ``u`` or ``phi`` (None if absent)."""
@@ -709,8 +719,24 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
         settle = _exact(data["settle"], "simulate.settle")
         if not 0 <= settle < t_final:
             raise SpecError(f"settle = {_fmt(settle)} must lie in [0, t_final)", path="simulate.settle")
+    nonlinearity: tuple[str, ...] = ()
+    if data.get("nonlinearity") is not None:
+        from uio_ring.spec.expressions import parse_state_function
+
+        items = data["nonlinearity"]
+        if len(items) != system.n_x:
+            raise SpecError(f"{len(items)} expression(s) given for {system.n_x} states", path="simulate.nonlinearity")
+        if system.max_delay_degree > 0:
+            raise SpecError("a nonlinearity is simulated for delay-free systems only", path="simulate.nonlinearity")
+        nonlinearity = tuple(str(v) for v in items)
+        for i, text in enumerate(nonlinearity):
+            try:
+                parse_state_function([text], system.state_names)
+            except SpecError as exc:
+                raise SpecError(str(exc), path=f"simulate.nonlinearity[{i}]") from None
     return SimulateSpec(
-        t_final, dt, h, w, u, phi, x_hat0, noise_bound, seed, settle, str(data.get("discretisation", "implicit"))
+        t_final, dt, h, w, u, phi, x_hat0, noise_bound, seed, settle, str(data.get("discretisation", "implicit")),
+        nonlinearity, tuple(system.state_names),
     )
 
 
