@@ -133,3 +133,40 @@ def test_random_upward_sets_certificate(seed):
     if r.found:
         assert ex.sympy_admissible(r.A_e.to_sympy().tolist(), r.C_e.to_sympy().tolist(),
                                    [Wk.to_sympy().tolist() for Wk in r.W_e])
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10**6), m=st.integers(1, 4))
+def test_extend_identities_on_random_sets(seed, m):
+    """extend's defining identities, with sympy: S22 C̃Ã^{m−1} = R̃* of full row rank r̃ − r,
+    S32 C̃Ã^{m−1} + S31 R = 0, [S22; S32] nonsingular; im E_σ ⊇ ker R̃ and W̃-invariant;
+    ℓ = rank R̃* E_σ; T1 R̃* E_σ = 0 with [T1; T2] nonsingular; M = [𝓑; 𝓓] invertible."""
+    rng = random.Random(seed)
+    n, p = rng.randint(2, 5), rng.randint(1, 2)
+    A = sympy.Matrix(n, n, lambda i, j: rng.choice([0, 0, 1, -1, 2]))
+    C = sympy.Matrix(p, n, lambda i, j: rng.choice([0, 1, -1]))
+    W = [sympy.Matrix(n, n, lambda i, j: rng.choice([0, 0, 0, 1])) for _ in range(rng.randint(1, 2))]
+    st_ = extend(A.tolist(), C.tolist(), [w.tolist() for w in W], m)
+    R = sympy.zeros(0, n)
+    for k in range(m - 1):
+        R = R.col_join(C * A**k)
+    last = C * A ** (m - 1)
+    Rt = R.col_join(last)
+    S22, S31, S32 = (M.to_sympy() for M in (st_.S22, st_.S31, st_.S32))
+    assert (st_.r, st_.r_tilde) == (R.rank(), Rt.rank())
+    Rstar = S22 * last
+    assert Rstar.rank() == Rstar.shape[0] == st_.r_tilde - st_.r
+    if S32.shape[0]:
+        assert (S32 * last + S31 * R).is_zero_matrix
+    assert S22.col_join(S32).rank() == p
+    E = st_.E_sigma.to_sympy()
+    for v in Rt.nullspace():
+        assert E.row_join(v).rank() == E.rank()
+    for w in W:
+        assert E.row_join(w * E).rank() == E.rank()
+    X = Rstar * E
+    assert st_.ell == X.rank()
+    if st_.ell:
+        T1, T2 = st_.T1.to_sympy(), st_.T2.to_sympy()
+        assert (T1 * X).is_zero_matrix and T1.col_join(T2).rank() == T1.shape[1]
+    assert st_.M.to_sympy().rank() == p

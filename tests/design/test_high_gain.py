@@ -308,6 +308,8 @@ def test_theorem1_bound_example3():
     assert 2.2e-3 < b < 1 / (4 * np.linalg.norm(Pf, 2)) < 2.41e-3
     assert "epsilon_bound=" in repr(d) and d.to_dict()["epsilon_bound"] == str(b)
     assert example3().epsilon_bound is None
+    linear = design_high_gain(DelaySystem("[[0, 1], [0, 0]]", [], "[[1, 0]]", None), mu_bounds=[])
+    assert linear.epsilon_bound == 1  # no nonlinearity: any ε in (0, 1]
     with pytest.raises(DimensionError, match="mu_bounds"):
         design_high_gain(example_system(), W=[ex.W1_EXAMPLE1], mu_bounds=[1, 2])
     assert get_method("high-gain").read_options({"mu_bounds": [1]})["mu_bounds"] == (1,)
