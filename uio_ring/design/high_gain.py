@@ -20,7 +20,8 @@ observer is implemented without separate filter states (eq. (22))::
     z̃' = (A_z − K_z C_z) z̃ + (B_z − K_z D_z)(y − F u − C x̂)
     x̂' = A x̂ + E u + φ(t, x̂) + K_x (C_z z̃ + D_z (y − F u − C x̂))
 
-(``numeric()`` is the linear part: φ is not part of the float model.)
+(``numeric()`` holds the linear part and ``phi_map = [0; I]``, the place where φ(t, x̂)
+enters; ``simulate_observer(design, phi=…)`` supplies φ.)
 
 >>> from uio_ring import DelaySystem
 >>> sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [0]]", "[[1, 0]]", None)
