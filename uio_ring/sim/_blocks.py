@@ -221,67 +221,76 @@ class BlockIntegrator:
         forcing ``B(δ) w + E(δ) u`` on the grid of ``[0, nblocks h]``.  ``end_fix`` (shape
         ``(nblocks, n)``) is added to the forcing at the right end of each block: the left
         limit there, when an input jumps at a multiple of h.
+
+        A batch of trajectories of the same plant: a leading axis on ``X``, ``fin`` and
+        ``end_fix`` (``(S, …)``); every block product then has S rows.
         """
         N, n, K = self.N, self.n, self.K
+        Xb = X if X.ndim == 3 else X[None]  # (S, rows, n): a view, filled in place
+        fb = fin if fin.ndim == 3 else fin[None]
+        S_ = Xb.shape[0]
         # input forcing of every block at once: f_in on the block points, quadrature
         jb = np.arange(nblocks)[:, None] * N + np.arange(N + 1)[None, :]
-        Fin = fin[jb]  # (nblocks, N+1, n)
+        Fin = fb[:, jb]  # (S, nblocks, N+1, n)
         if end_fix is not None:
-            Fin[:, N, :] += end_fix
+            Fin[:, :, N, :] += end_fix
         step = max(1, nblocks // 100)
         if self.method == "sub":
             m, S = self.m, self.S
-            Gin = self.quadrature(Fin)  # (nblocks, N, n)
-            XW = (Gin.reshape(nblocks * S, m * n) @ self.TmT).reshape(nblocks, S, m * n)
+            Gin = self.quadrature(Fin.reshape(S_ * nblocks, N + 1, n))  # (S_ nblocks, N, n)
+            XW = (Gin.reshape(S_ * nblocks * S, m * n) @ self.TmT).reshape(S_, nblocks, S, m * n)
             PT, sub = self.PT, self.sub
             KN = K * N
             for k in range(nblocks):
                 a = k * N
                 for c, (lo, width, MdT) in enumerate(sub):
                     r0 = a + KN + c * m
-                    acc = X[r0] @ PT + XW[k, c]
+                    acc = Xb[:, r0] @ PT + XW[:, k, c]
                     if K == 1:
-                        acc += X[a + lo : a + lo + width].reshape(-1) @ MdT
+                        acc += Xb[:, a + lo : a + lo + width].reshape(S_, -1) @ MdT
                     elif K > 1:
-                        parts = [X[a + (K - i) * N + lo : a + (K - i) * N + lo + width] for i in range(1, K + 1)]
-                        acc += np.concatenate(parts).reshape(-1) @ MdT
-                    X[r0 + 1 : r0 + m + 1] = acc.reshape(m, n)
+                        parts = [Xb[:, a + (K - i) * N + lo : a + (K - i) * N + lo + width] for i in range(1, K + 1)]
+                        acc += np.concatenate(parts, axis=1).reshape(S_, -1) @ MdT
+                    Xb[:, r0 + 1 : r0 + m + 1] = acc.reshape(S_, m, n)
                 if k % step == 0:
                     progress.update(k)
         elif self.method == "super":
             B, L = self.B, K * N + 1
             ns = nblocks // B
-            XS = Fin[: ns * B].reshape(ns, B * (N + 1) * n) @ self.SfT
+            XS = (Fin[:, : ns * B].reshape(S_ * ns, B * (N + 1) * n) @ self.SfT).reshape(S_, ns, B * N * n)
             SwT = self.SwT
             for g in range(ns):
                 a = g * B * N
-                X[a + L : a + L + B * N] = (X[a : a + L].reshape(-1) @ SwT + XS[g]).reshape(B * N, n)
+                Xb[:, a + L : a + L + B * N] = (Xb[:, a : a + L].reshape(S_, -1) @ SwT + XS[:, g]).reshape(S_, B * N, n)
                 if g % max(1, ns // 100) == 0:
                     progress.update(g * B)
             MT = self.MT
-            XW = Fin[ns * B :].reshape(nblocks - ns * B, (N + 1) * n) @ self.QinT
+            left = nblocks - ns * B
+            XW = (Fin[:, ns * B :].reshape(S_ * left, (N + 1) * n) @ self.QinT).reshape(S_, left, N * n)
             for k in range(ns * B, nblocks):  # the blocks left over
                 a = k * N
-                X[a + L : a + L + N] = (X[a : a + L].reshape(-1) @ MT + XW[k - ns * B]).reshape(N, n)
+                Xb[:, a + L : a + L + N] = (Xb[:, a : a + L].reshape(S_, -1) @ MT + XW[:, k - ns * B]).reshape(S_, N, n)
         elif self.method == "dense":
-            XW = Fin.reshape(nblocks, (N + 1) * n) @ self.QinT  # particular solutions from zero
+            XW = (Fin.reshape(S_ * nblocks, (N + 1) * n) @ self.QinT).reshape(S_, nblocks, N * n)  # from 0
             MT = self.MT
             L = K * N + 1
             for k in range(nblocks):
                 a = k * N  # window X[a : a + K N + 1] = x((k−K) h) … x(k h)
-                X[a + L : a + L + N] = (X[a : a + L].reshape(-1) @ MT + XW[k]).reshape(N, n)
+                Xb[:, a + L : a + L + N] = (Xb[:, a : a + L].reshape(S_, -1) @ MT + XW[:, k]).reshape(S_, N, n)
                 if k % step == 0:
                     progress.update(k)
         else:
-            Gin = self.quadrature(Fin)  # (nblocks, N, n)
             A = self.A
-            for k in range(nblocks):
-                a = k * N
-                win = X[a : a + K * N + 1]
-                fdT = np.zeros((n, N + 1))
-                for i in range(1, K + 1):
-                    fdT += A[i] @ win[(K - i) * N : (K - i) * N + N + 1].T
-                G = self.quadrature(fdT.T[None])[0] + Gin[k]
-                X[a + K * N + 1 : a + K * N + 1 + N] = self.scan.run(X[a + K * N], G)
-                if k % step == 0:
-                    progress.update(k)
+            for s_ in range(S_):  # per trajectory of a batch (this method is for large N only)
+                Xs = Xb[s_]
+                Gin = self.quadrature(Fin[s_])  # (nblocks, N, n)
+                for k in range(nblocks):
+                    a = k * N
+                    win = Xs[a : a + K * N + 1]
+                    fdT = np.zeros((n, N + 1))
+                    for i in range(1, K + 1):
+                        fdT += A[i] @ win[(K - i) * N : (K - i) * N + N + 1].T
+                    G = self.quadrature(fdT.T[None])[0] + Gin[k]
+                    Xs[a + K * N + 1 : a + K * N + 1 + N] = self.scan.run(Xs[a + K * N], G)
+                    if k % step == 0:
+                        progress.update(k)
