@@ -54,6 +54,9 @@ _LAZY: dict[str, str] = {
     # numerics (issue 4): float64 simulation
     "simulate": "uio_ring.sim.plant",
     "simulate_observer": "uio_ring.sim.engine",
+    "simulate_batch": "uio_ring.sim.batch",
+    "Scenario": "uio_ring.sim.batch",
+    "BatchResult": "uio_ring.sim.batch",
     "SimulationResult": "uio_ring.sim.result",
     "ObserverModel": "uio_ring.numeric.model",
     # spec files and design files (issue 5)

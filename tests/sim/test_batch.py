@@ -1,0 +1,97 @@
+"""simulate_batch: K scenarios in one vectorised run, the same numbers as K runs of simulate_observer."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from design import paper000, paper001
+
+from uio_ring import design_normal_form, design_zheng_bejarano, simulate_observer
+from uio_ring.errors import SimulationError
+from uio_ring.sim.batch import METRICS, Scenario, simulate_batch, solve_chains
+
+
+@pytest.fixture(scope="module")
+def zb():
+    return design_zheng_bejarano(paper001.system(), poles=[-10, -25, -50])
+
+
+@pytest.fixture(scope="module")
+def nf():
+    return design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
+
+
+def _w(a, f):
+    return lambda t: np.array([a * np.sin(f * np.asarray(t, float)), 20 * np.cos(20 * np.asarray(t, float))])
+
+
+def _same(res, k, r):
+    scale = max(np.max(np.abs(r.x)), 1.0)
+    for name in ("x", "y", "x_hat"):
+        assert np.max(np.abs(getattr(r, name) - getattr(res, name)[k])) <= 1e-12 * scale, name
+
+
+@pytest.mark.parametrize("K", [3, 9])  # K < 8: chunked scan; K ≥ 8: one product per step
+def test_batch_equals_separate_runs_delay_observer(zb, K):
+    rng = np.random.default_rng(K)
+    sc = [Scenario(x0=rng.normal(size=4), w=_w(rng.uniform(1, 10), rng.uniform(10, 100)),
+                   noise=0.01 if k % 3 == 1 else None, seed=k,
+                   x_hat0=rng.normal(size=4) if k % 2 else None) for k in range(K)]
+    res = simulate_batch(zb, sc, t_final=0.25, dt=1e-3, trajectories=True, segment_steps=70)
+    assert res.x.shape == (K, 4, 251) and res.t.shape == (251,)
+    for k in (0, 1, K - 1):
+        s = sc[k]
+        r = simulate_observer(zb, t_final=0.25, dt=1e-3, w=s.w, x0=s.x0, noise=s.noise, seed=s.seed,
+                              x_hat0=s.x_hat0)
+        _same(res, k, r)
+        e = np.max(np.abs(r.error), axis=0)
+        assert res.metrics["peak"][k] == pytest.approx(e.max(), rel=1e-9)
+        assert res.metrics["final"][k] == pytest.approx(e[-1], rel=1e-9)
+
+
+@pytest.mark.parametrize("disc", ["implicit", "explicit", "euler"])
+def test_batch_equals_separate_runs_normal_form(nf, disc):
+    u_sine = lambda t: np.array([0.01 * np.sin(np.asarray(t, float)), 0 * np.asarray(t, float)])  # noqa: E731
+    sc = [Scenario(x0=np.array(paper000.X0) * f, w=lambda t, a=a: 0.008 + a * np.sin(2 * t),
+                   u=u_sine if k % 2 else [0.0, 0.01], noise=0.001 if k == 2 else None, seed=3)
+          for k, (f, a) in enumerate([(1.0, 0.01), (0.5, 0.0), (1.5, 0.005)])]
+    res = simulate_batch(nf, sc, t_final=0.05, dt=1e-4, trajectories=True, segment_steps=123,
+                         discretisation=disc)
+    for k, s in enumerate(sc):
+        r = simulate_observer(nf, t_final=0.05, dt=1e-4, w=s.w, u=s.u, x0=s.x0, noise=s.noise, seed=s.seed,
+                              discretisation=disc)
+        _same(res, k, r)
+
+
+def test_metrics_of_a_known_error():
+    from uio_ring import DelaySystem
+
+    sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)
+    des = design_zheng_bejarano(sys, poles=[-10])  # e' = −10 e: e(t) = e(0) e^{−10 t}
+    sc = [Scenario(x0=[1.0, 0.0]), Scenario(x0=[1e-4, 0.0]), Scenario(x0=[1e9, 0.0])]
+    res = simulate_batch(des, sc, t_final=1.0, dt=1e-3, tol=1e-3, diverge=1e6, segment_steps=100)
+    m = res.metrics
+    assert set(m) == set(METRICS)
+    assert m["t_converge"][0] == pytest.approx(np.ceil(np.log(1e3) / 10 / 1e-3) * 1e-3)
+    assert m["max_after"][0] <= 1e-3 and m["rms_after"][0] <= m["max_after"][0]
+    assert m["t_converge"][1] == 0.0 and m["peak"][1] == pytest.approx(1e-4)
+    assert np.isnan(m["t_diverge"][0]) and m["t_diverge"][2] == 0.0
+    assert res.rows()[0]["peak"] == pytest.approx(1.0) and "converged" in repr(res)
+
+
+def test_solve_chains_matches_the_scalar_solver():
+    from uio_ring.numeric.stepper import solve_chain
+
+    a = np.array([-7.0, -1.2, -0.3, 0.0, 0.4, 2.0, 55.0])
+    for coef, s0, mu in (([], 1.0, 1), ([0.3], 0.5, 2), ([0.2, 0.7, 0.1], 0.9, 4)):
+        sig, sg = solve_chains(a, coef, s0, mu)
+        ref = np.array([solve_chain(float(v), coef, s0, mu) for v in a])
+        np.testing.assert_allclose(sig, ref[:, 0], rtol=1e-14, atol=1e-15)
+        np.testing.assert_allclose(sg, ref[:, 1], rtol=1e-14)
+
+
+def test_bad_input(zb):
+    with pytest.raises(SimulationError, match="Scenario"):
+        simulate_batch(zb, [], t_final=0.1, dt=1e-3)
+    with pytest.raises(SimulationError, match="dt"):
+        simulate_batch(zb, [Scenario()], t_final=0.1, dt=3e-3)

@@ -1,0 +1,650 @@
+"""Many scenarios of one design on one plant in one vectorised run: ``simulate_batch``.
+
+K scenarios (each with its own initial state or history, unknown input w, known
+input u, output noise and seed, initial estimate) share the plant and the
+observer, so every block product of the plant integrator
+(:class:`~uio_ring.sim._blocks.BlockIntegrator`, batch axis) and every step of the
+observer has K rows: a linear observer is one linear recursion for all K columns
+at once; an observer with a Levant injection term is one loop over the steps whose
+body (the implicit chain equations included) works on all K scenarios together.
+
+The horizon is cut into segments of whole delay blocks; the plant, the output and
+the observer carry only the tails they read (the delays, the stencils) from one
+segment to the next, so memory stays bounded for long horizons.  Error metrics are
+accumulated on the fly; full trajectories are kept only with ``trajectories=True``.
+The numbers are those of :func:`~uio_ring.sim.engine.simulate_observer` run once per
+scenario (up to rounding: ~1e-13 relative).
+
+>>> import numpy as np
+>>> from uio_ring import DelaySystem, design_zheng_bejarano
+>>> sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)
+>>> des = design_zheng_bejarano(sys, poles=[-10])          # e' = −10 e
+>>> runs = [Scenario(x0=[1.0, 0.0]), Scenario(x0=[0.0, 2.0], w=lambda t: np.sin(t))]
+>>> res = simulate_batch(des, runs, t_final=2.0, dt=1e-3, tol=1e-3)
+>>> np.round(res.metrics["t_converge"], 3).tolist()        # e^{−10 t} ≤ 1e-3 from t = 0.691
+[0.691, 0.0]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from uio_ring.errors import DimensionError, SimulationError
+from uio_ring.numeric.expint import LinearScan
+from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
+from uio_ring.numeric.history import sample_history
+from uio_ring.numeric.threads import blas_single_thread
+from uio_ring.sim._blocks import block_integrator
+from uio_ring.sim._progress import Progress, want_progress
+from uio_ring.sim.engine import _check_sizes
+from uio_ring.sim.plant import SystemArrays
+from uio_ring.sim.signals import UniformNoise, as_noise, input_samples
+
+__all__ = ["Scenario", "BatchResult", "simulate_batch", "METRICS"]
+
+#: Per-scenario metrics of :func:`simulate_batch`; ``e(t) = ‖x(t) − x̂(t)‖_∞``.
+METRICS = {
+    "t_converge": "first grid time after which e(t) ≤ tol up to t_final (NaN: not converged)",
+    "max_after": "max of e(t) for t ≥ t_converge",
+    "rms_after": "RMS of e(t) for t ≥ t_converge",
+    "peak": "max of e(t) over the run",
+    "t_peak": "time of the peak",
+    "final": "e(t_final)",
+    "t_diverge": "first time e(t) > diverge or not finite (NaN: never)",
+}
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """One run of a batch: the arguments of :func:`~uio_ring.sim.engine.simulate_observer`
+    that may differ between runs.
+
+    ``x0`` (vector, callable history or samples), ``w``, ``u`` (callables of t, constant
+    vectors or samples on the grid), ``noise`` (output-noise amplitude, a number or one
+    per output; uniform, seeded with ``seed``, default 0), ``x_hat0`` (initial estimate).
+    """
+
+    x0: Any = None
+    w: Any = None
+    u: Any = None
+    noise: Any = None
+    seed: int | None = None
+    x_hat0: Any = None
+
+    def noise_model(self) -> UniformNoise | None:
+        nz = as_noise(self.noise)
+        if nz is not None and self.seed is not None:
+            nz = UniformNoise(nz.amplitude, seed=self.seed)
+        return nz
+
+
+@dataclass(frozen=True, eq=False)
+class BatchResult:
+    """What :func:`simulate_batch` returns.
+
+    Attributes
+    ----------
+    metrics : dict of (K,) arrays — see :data:`METRICS`
+    t : (T,) grid times
+    x, y, x_hat, error : (K, n, T) arrays, or None unless ``trajectories=True``
+    w_hat : (K, n_w, T) array or None (models that reconstruct w, with trajectories)
+    tol, diverge : the thresholds of the metrics
+    """
+
+    metrics: dict[str, np.ndarray]
+    t: np.ndarray
+    tol: float
+    diverge: float
+    x: np.ndarray | None = None
+    y: np.ndarray | None = None
+    x_hat: np.ndarray | None = None
+    w_hat: np.ndarray | None = None
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def error(self) -> np.ndarray | None:
+        return None if self.x is None or self.x_hat is None else self.x - self.x_hat
+
+    @property
+    def K(self) -> int:
+        return int(self.metrics["peak"].shape[0])
+
+    def rows(self) -> list[dict[str, float]]:
+        """One dict of metrics per scenario."""
+        return [{k: float(v[i]) for k, v in self.metrics.items()} for i in range(self.K)]
+
+    def __repr__(self) -> str:
+        conv = int(np.sum(np.isfinite(self.metrics["t_converge"])))
+        return (f"<BatchResult: {self.K} scenarios, t = 0…{self.t[-1]:g} ({self.t.size} samples), "
+                f"{conv} converged to {self.tol:g}>")
+
+
+# ---------------------------------------------------------------------------------- kernels
+def _bsum(M: np.ndarray, S: np.ndarray, j0: int, j1: int, N: int, offset: int) -> np.ndarray:
+    """``Σ_i M_i s(t_j − i h)`` for ``j = j0 … j1`` and every scenario: ``(j1 − j0 + 1, K, rows)``.
+
+    Time-major: ``S`` has shape ``(rows_S, K, cols)`` with ``S[offset + j] = s(t_j)``, so
+    each delay is one matrix product over all samples and scenarios.
+    Precondition: every index is inside S, S C-contiguous (not checked).
+    """
+    L, K = j1 - j0 + 1, S.shape[1]
+    out = np.zeros((L * K, M.shape[1]))
+    for i in range(M.shape[0]):
+        if np.any(M[i]):
+            a = offset + j0 - i * N
+            out += S[a : a + L].reshape(L * K, -1) @ M[i].T
+    return out.reshape(L, K, M.shape[1])
+
+
+def _scan_steps(Phi: np.ndarray, x0: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """``x_{j+1} = Φ x_j + g_j`` step by step, K columns per step (time-major ``g`` ``(M, K, n)``)."""
+    out = np.empty(g.shape)
+    x, PhiT = x0, Phi.T
+    for j in range(g.shape[0]):
+        x = x @ PhiT + g[j]
+        out[j] = x
+    return out
+
+
+def _scan_k(scan: LinearScan, x0: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """:meth:`LinearScan.run` for K columns: ``x0`` ``(K, n)``, ``g`` ``(K, M, n)`` → ``(K, M, n)``."""
+    K, M, n = g.shape
+    m = scan.m
+    if M <= 2 * m:
+        out = np.empty((K, M, n))
+        x, PhiT = x0, scan.Phi.T
+        for j in range(M):
+            x = x @ PhiT + g[:, j]
+            out[:, j] = x
+        return out
+    C = -(-M // m)
+    gp = np.zeros((K, C * m, n))
+    gp[:, :M] = g
+    Yp = (gp.reshape(K * C, m * n) @ scan.TT).reshape(K, C, m, n)
+    starts = np.empty((K, C, n))
+    starts[:, 0] = x0
+    if C > 1:
+        starts[:, 1:] = _scan_k(scan._outer(), x0, Yp[:, :-1, -1])
+    X = (starts.reshape(K * C, n) @ scan.Pstack).reshape(K, C, m, n)
+    X += Yp
+    return X.reshape(K, C * m, n)[:, :M]
+
+
+def solve_chains(a: np.ndarray, coef: Sequence[float], s0: float, mu: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`~uio_ring.numeric.stepper.solve_chain` for a vector of right-hand sides ``a``.
+
+    The same Newton iteration, entry by entry, with a mask of the entries still moving.
+
+    >>> sig, sg = solve_chains(np.array([0.5, 3.0, -3.0]), [], 1.0, 1)
+    >>> sig.tolist(), sg.tolist()
+    ([0.0, 2.0, -2.0], [0.5, 1.0, -1.0])
+    """
+    absa = np.abs(a)
+    inside = absa <= s0
+    sg = np.where(inside, a / s0, np.sign(a))
+    sg[~inside & (a == 0)] = 1.0  # (unreachable: s0 > 0)
+    c = np.where(inside, 0.0, absa - s0)
+    if mu == 1:
+        return np.where(inside, 0.0, np.copysign(c, a)), sg
+    s = c ** (1.0 / mu)
+    active = ~inside
+    for _ in range(100):
+        if not active.any():
+            break
+        f, df = np.ones_like(s), np.zeros_like(s)
+        for ck in coef:
+            df = df * s + f
+            f = f * s + ck
+        df = df * s + f
+        f = f * s - c
+        stop = (f <= 0.0) | (df <= 0.0)
+        active &= ~stop
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s_new = s - f / df
+        done = active & ((s_new >= s) | (s - s_new <= 1e-15 * s))
+        s = np.where(done, np.maximum(s_new, 0.0), np.where(active, s_new, s))
+        active &= ~done
+    sig = np.where(inside, 0.0, np.copysign(s**mu, a))
+    return sig, sg
+
+
+class _BatchInjection:
+    """The stepper's injection tables applied to K rows at once."""
+
+    def __init__(self, inj: Any):
+        self.inj = inj
+        self.KlT = inj.Kl.T.copy()
+        self.starts = list(inj.starts)
+
+    def measured(self, Y: np.ndarray, U: np.ndarray) -> np.ndarray:
+        out = Y @ self.inj.Sy.T
+        return out + U @ self.inj.Su.T if self.inj.Su.shape[1] else out
+
+    def l_of(self, sigma: np.ndarray) -> np.ndarray:
+        inj = self.inj
+        out = np.zeros((sigma.shape[0], inj.n))
+        for j, (s, m) in enumerate(zip(inj.starts, inj.mu, strict=True)):
+            sj = sigma[:, j : j + 1]
+            out[:, s : s + m] = inj.kappa[j] * np.abs(sj) ** inj.exponents[j] * np.sign(sj)
+        return out
+
+    def implicit(self, lin: np.ndarray, meas_next: np.ndarray) -> np.ndarray:
+        inj = self.inj
+        lvec = np.zeros_like(lin)
+        for j, (s, m) in enumerate(zip(inj.starts, inj.mu, strict=True)):
+            a = meas_next[:, j] - lin[:, s]
+            if j:
+                a = a - lvec @ inj.Kl_rows[j]
+            sig, sg = solve_chains(a, inj.coef[j], inj.s0[j], m)
+            kap, ex = inj.kap[j], inj.exp[j]
+            mag, sgn = np.abs(sig), np.sign(sig)
+            for k in range(m - 1):
+                lvec[:, s + k] = kap[k] * mag ** ex[k] * sgn
+            lvec[:, s + m - 1] = kap[m - 1] * sg
+        return lin + lvec @ self.KlT
+
+
+# ---------------------------------------------------------------------------------- plant
+class _BatchPlant:
+    """The plant for K scenarios, one segment of whole blocks at a time."""
+
+    def __init__(self, S: SystemArrays, h: float, dt: float, n_steps: int, scenarios: Sequence[Scenario]):
+        self.S, self.h = S, h
+        self.N = N = steps_per_delay(h, dt)
+        self.dt = dt
+        self.n_steps = n_steps
+        self.scen = scenarios
+        self.KA, self.Kx, self.Kin = max(S.deg(S.A), 0), S.state_delay, S.input_delay
+        self.integ = block_integrator(S.A, N, dt)
+        hist = [sample_history(sc.x0, S.n_x, N=N, k=self.Kx, dt=dt, name="x0").T for sc in scenarios]
+        self.Xtail = np.stack(hist)  # rows j = b0 N − Kx N … b0 N
+        self.b0 = 0
+        self.noise = [sc.noise_model() for sc in scenarios]
+        # array inputs jump at 0 (zero before): the left limit at the right end of blocks i − 1
+        Kin = self.Kin
+        self.end_fix = np.zeros((len(scenarios), max(Kin, 1), S.n_x))
+        off = Kin * N
+        if off > 0:
+            for k, sc in enumerate(scenarios):
+                for M, sig, n, name in ((S.B, sc.w, S.n_w, "w"), (S.E, sc.u, S.n_u, "u")):
+                    if sig is None or callable(sig) or n == 0:
+                        continue
+                    arr = input_samples(sig, n, j_min=-1, j_max=0, n_steps=n_steps, dt=dt, name=name)
+                    jump = arr[:, 1] - arr[:, 0]
+                    for i in range(1, M.shape[0]):
+                        self.end_fix[k, i - 1] -= M[i] @ jump
+
+    def _inputs(self, which: str, n: int, j_min: int, j_max: int) -> np.ndarray:
+        out = np.empty((j_max - j_min + 1, len(self.scen), n))  # time-major
+        for k, sc in enumerate(self.scen):
+            out[:, k] = input_samples(getattr(sc, which), n, j_min=j_min, j_max=j_max, n_steps=self.n_steps,
+                                   dt=self.dt, name=which).T
+        return out
+
+    def _noise(self, n_y: int, j0: int, j1: int) -> np.ndarray | None:
+        if all(nz is None for nz in self.noise):
+            return None
+        m, T = j1 - j0 + 1, self.n_steps + 1
+        out = np.zeros((m, len(self.scen), n_y))
+        for k, nz in enumerate(self.noise):
+            if nz is None:
+                continue
+            amp = nz.bound(n_y)
+            if np.any(~np.isfinite(amp)) or np.any(amp < 0):
+                raise SimulationError(f"noise amplitude {nz.amplitude!r} must be finite and ≥ 0")
+            for i in range(n_y):  # the stream of UniformNoise.samples(n_y, T), row i, columns j0 … j1
+                bg = np.random.PCG64(nz.seed)
+                bg.advance(i * T + j0)
+                out[:, k, i] = np.random.Generator(bg).uniform(-1.0, 1.0, size=m) * amp[i]
+        return out
+
+    def segment(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray]:
+        """Integrate ``nb`` blocks; return ``(jlo, jhi, X, Y, U)`` for the new samples ``jlo … jhi``
+        (time-major: ``(jhi − jlo + 1, K, ·)``; the first segment includes ``j = 0``)."""
+        S, N = self.S, self.N
+        K = len(self.scen)
+        b0 = self.b0
+        a0 = b0 * N
+        KxN, KinN = self.Kx * N, self.Kin * N
+        X = np.empty((K, KxN + nb * N + 1, S.n_x))
+        X[:, : KxN + 1] = self.Xtail
+        W = self._inputs("w", S.n_w, a0 - KinN, a0 + nb * N)
+        U = self._inputs("u", S.n_u, a0 - KinN, a0 + nb * N)
+        fin = _bsum(S.B, W, 0, nb * N, N, KinN) + _bsum(S.E, U, 0, nb * N, N, KinN)
+        fix = None
+        if self.Kin and b0 < self.Kin and np.any(self.end_fix):
+            fix = np.zeros((K, nb, S.n_x))
+            c = min(self.Kin - b0, nb)
+            fix[:, :c] = self.end_fix[:, b0 : b0 + c]
+        base = (self.Kx - self.KA) * N
+        with Progress(nb, False, "plant") as bar:
+            self.integ.run(X[:, base:], np.ascontiguousarray(fin.transpose(1, 0, 2)), nb, bar, end_fix=fix)
+        jlo = 0 if b0 == 0 else a0 + 1
+        jhi = min(a0 + nb * N, self.n_steps)
+        self.Xtail = X[:, nb * N :].copy()
+        X = np.ascontiguousarray(X.transpose(1, 0, 2))  # time-major from here on
+        # rows of X: x(t_j) = X[KxN + j − a0]; of W, U: [KinN + j − a0]
+        Y = (_bsum(S.C, X, jlo, jhi, N, KxN - a0) + _bsum(S.D, W, jlo, jhi, N, KinN - a0)
+             + _bsum(S.F, U, jlo, jhi, N, KinN - a0))
+        nz = self._noise(S.n_y, jlo, jhi)
+        if nz is not None:
+            Y += nz
+        self.b0 = b0 + nb
+        sl = slice(KxN + jlo - a0, KxN + jhi - a0 + 1)
+        return jlo, jhi, X[sl], Y, U[KinN + jlo - a0 : KinN + jhi - a0 + 1]
+
+
+# ---------------------------------------------------------------------------------- observer
+class _BatchObserver:
+    """The stepper's recursion (``ObserverStepper.trajectories``) for K scenarios, by segments.
+
+    Arrays are time-major, ``(steps, K, ·)``."""
+
+    def __init__(self, stepper: Any, scenarios: Sequence[Scenario], u_history: np.ndarray):
+        self.st = st = stepper
+        self.scen = scenarios
+        self.u_history = u_history  # (L, K, n_u): u at j = −L … −1
+        self.Lt = st.history_length + 1
+        self.pad = max(st.lag * st.N, 0 if st.Wm is None else (st.Wm.shape[0] - 1) * st.N)
+        self.scan = LinearScan(st.Phi, chunk=16) if st.inj is None else None
+        self.binj = None if st.inj is None else _BatchInjection(st.inj)
+        self.Ytail: np.ndarray | None = None
+
+    def _xi0(self, Yrows: np.ndarray, Urows: np.ndarray, off: int) -> np.ndarray:
+        st = self.st
+        K = len(self.scen)
+        D0 = _bsum(st.Dy, Yrows, 0, 0, st.N, off)[0]
+        if st.n_u:
+            D0 = D0 + _bsum(st.Du, Urows, 0, 0, st.N, off)[0]
+        xi = np.zeros((K, st.n_z))
+        n_init = st.model.initial.shape[1]
+        for k, sc in enumerate(self.scen):
+            if sc.x_hat0 is not None:
+                v = np.asarray(sc.x_hat0, dtype=float).reshape(-1)
+                if v.shape != (n_init,) or not np.all(np.isfinite(v)):
+                    raise DimensionError(f"scenario {k}: x_hat0 = {sc.x_hat0!r}; expected {n_init} finite values")
+                xi[k] = st.model.initial @ v - D0[k]
+        return xi
+
+    def segment(self, jlo: int, Y: np.ndarray, U: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """``x̂`` (and ``ŵ``) at the new samples ``jlo …`` from y, u there: ``(S, K, n_x)``."""
+        st, N, Lt = self.st, self.st.N, self.Lt
+        Sn, K = Y.shape[0], Y.shape[1]
+        if st.n_u == 0:
+            U = np.zeros((Sn, K, 0))
+        first = self.Ytail is None
+        if first:  # y held at y(0) before 0; u from its history (and one more row, never read)
+            Yt = np.repeat(Y[:1], Lt, axis=0)
+            Ut = np.concatenate([self.u_history[:1], self.u_history], axis=0)
+        else:
+            Yt, Ut = self.Ytail, self.Utail
+        Yrows = np.concatenate([Yt, Y], axis=0)  # Yrows[Lt + j − jlo] = y(t_j)
+        Urows = np.concatenate([Ut, U], axis=0)
+        off = Lt - jlo
+        j1 = jlo + Sn - 1
+        G = _bsum(st.Gy, Yrows, jlo - 3, j1, N, off)  # G[j − jlo + 3] = g(t_j)
+        D = _bsum(st.Dy, Yrows, jlo, j1, N, off)
+        if st.n_u:
+            G += _bsum(st.Gu, Urows, jlo - 3, j1, N, off)
+            D += _bsum(st.Du, Urows, jlo, j1, N, off)
+        steps = np.arange(jlo - 1 if not first else 0, j1)  # the steps j → j + 1 of this segment
+        Fq = self._forcing(G, steps, jlo)
+        xi_prev = self._xi0(Yrows, Urows, off) if first else self.xi
+        if self.binj is not None:
+            Xi = self._loop(xi_prev, Fq, G, Yrows, Urows, off, steps, jlo)
+        elif K >= 8 or steps.size <= 32:  # one small product per step carries K scenarios
+            Xi = _scan_steps(self.st.Phi, xi_prev, Fq)
+        else:
+            Xi = _scan_k(self.scan, xi_prev, np.ascontiguousarray(Fq.transpose(1, 0, 2))).transpose(1, 0, 2)
+        if first:
+            Xi = np.concatenate([xi_prev[None], Xi], axis=0)
+        self.xi = Xi[-1].copy()
+        Z = Xi + D
+        Ztail = np.repeat(Z[:1], self.pad, axis=0) if first else self.Ztail
+        Zrows = np.concatenate([Ztail, Z], axis=0)
+        zoff = self.pad - jlo
+        xh = _bsum(st.X, Zrows, jlo, j1, N, zoff)
+        wh = None if st.Wm is None else _bsum(st.Wm, Zrows, jlo, j1, N, zoff)
+        self.Ytail, self.Utail = Yrows[-Lt:].copy(), Urows[-Lt:].copy()
+        self.Ztail = Zrows[Zrows.shape[0] - self.pad :].copy()
+        return xh, wh
+
+    def _forcing(self, G: np.ndarray, steps: np.ndarray, jlo: int) -> np.ndarray:
+        """Forcing of the steps ``j → j + 1`` (``ObserverStepper._forcing_table``): ``(len, K, n_z)``."""
+        st, N = self.st, self.st.N
+        M, K = steps.size, G.shape[1]
+        nz = st.n_z
+        Fq = np.zeros((M * K, nz))
+        if M == 0:
+            return Fq.reshape(0, K, nz)
+        g0 = int(steps[0]) - (jlo - 3)  # G index of g(t_j) for the first step
+
+        def part(shift: int, Wm: np.ndarray) -> np.ndarray:
+            return G[g0 + shift : g0 + shift + M].reshape(M * K, -1) @ Wm.T
+
+        Wf = st.W_first
+        if st.cubic:
+            W = st.W
+            Fq = part(-2, W[0]) + part(-1, W[1]) + part(0, W[2]) + part(1, W[3])
+            end = st.guard_blocks * N
+        else:
+            Fq = part(0, Wf[0]) + part(1, Wf[1])
+            end = 0
+        Fq = Fq.reshape(M, K, nz)
+        if end and steps[0] < end:
+            gi = steps - (jlo - 3)
+            r = steps % N
+            sel = np.nonzero((steps < end) & (r == 0))[0]
+            Fq[sel] = G[gi[sel]] @ Wf[0].T + G[gi[sel] + 1] @ Wf[1].T
+            if N > 1:
+                Ws = st.W_second
+                sel = np.nonzero((steps < end) & (r == 1))[0]
+                Fq[sel] = G[gi[sel] - 1] @ Ws[0].T + G[gi[sel]] @ Ws[1].T + G[gi[sel] + 1] @ Ws[2].T
+        return Fq
+
+    def _loop(self, xi: np.ndarray, Fq: np.ndarray, G: np.ndarray, Yrows: np.ndarray, Urows: np.ndarray,
+              off: int, steps: np.ndarray, jlo: int) -> np.ndarray:
+        """Models with an injection term: one step at a time, all K scenarios per step."""
+        st, binj = self.st, self.binj
+        assert binj is not None  # only for models with injection
+        M = steps.size
+        out = np.empty((M,) + xi.shape)
+        if M == 0:
+            return out
+        PhiT, KlT, FT, dt = st.Phi.T, binj.KlT, st.model.F.T, st.dt
+        method, starts = binj.inj.method, binj.starts
+        j0 = int(steps[0])
+        rows = slice(off + j0, off + j0 + M + 1)
+        Meas = binj.measured(Yrows[rows], Urows[rows])  # Meas[q] at t_{j0 + q}
+        g0 = j0 - (jlo - 3)
+        with np.errstate(all="ignore"):
+            for q in range(M):
+                if method == "implicit":
+                    xi = binj.implicit(xi @ PhiT + Fq[q], Meas[q + 1])
+                elif method == "explicit":
+                    xi = xi @ PhiT + Fq[q] + binj.l_of(Meas[q] - xi[:, starts]) @ KlT
+                else:  # euler: g(t_j) over the step j → j + 1
+                    xi = xi + dt * (xi @ FT + G[g0 + q] + binj.l_of(Meas[q] - xi[:, starts]))
+                out[q] = xi
+        return out
+
+
+# ---------------------------------------------------------------------------------- metrics
+class _Metrics:
+    """On-the-fly error metrics of K runs (see :data:`METRICS`)."""
+
+    def __init__(self, K: int, dt: float, tol: float, diverge: float):
+        self.dt, self.tol, self.diverge = dt, tol, diverge
+        nan = np.full(K, np.nan)
+        self.last_bad = np.full(K, -1)  # last index with e > tol (or not finite)
+        self.max_after = np.zeros(K)
+        self.sumsq = np.zeros(K)
+        self.count = np.zeros(K, dtype=np.int64)
+        self.peak = np.zeros(K)
+        self.t_peak = np.zeros(K)
+        self.final = nan.copy()
+        self.t_diverge = nan.copy()
+
+    def update(self, jlo: int, e: np.ndarray) -> None:
+        """``e`` ``(K, S)``: the error norm at ``j = jlo … jlo + S − 1``."""
+        K, S = e.shape
+        idx = np.arange(S)
+        finite = np.isfinite(e)
+        bad = ~finite | (e > self.tol)
+        any_bad = bad.any(axis=1)
+        last = np.where(any_bad, S - 1 - np.argmax(bad[:, ::-1], axis=1), -1)
+        after = idx[None, :] > last[:, None]
+        ea = np.where(after, e, 0.0)
+        smax, ssq, scnt = ea.max(axis=1, initial=0.0), (ea * ea).sum(axis=1), after.sum(axis=1)
+        self.max_after = np.where(any_bad, smax, np.maximum(self.max_after, smax))
+        self.sumsq = np.where(any_bad, ssq, self.sumsq + ssq)
+        self.count = np.where(any_bad, scnt, self.count + scnt)
+        self.last_bad = np.where(any_bad, jlo + last, self.last_bad)
+        ep = np.where(finite, e, np.inf)
+        kp = np.argmax(ep, axis=1)
+        pk = ep[np.arange(K), kp]
+        better = pk > self.peak
+        self.peak = np.where(better, pk, self.peak)
+        self.t_peak = np.where(better, (jlo + kp) * self.dt, self.t_peak)
+        div = ~finite | (e > self.diverge)
+        first = np.argmax(div, axis=1)
+        new = div.any(axis=1) & np.isnan(self.t_diverge)
+        self.t_diverge = np.where(new, (jlo + first) * self.dt, self.t_diverge)
+        self.final = e[:, -1]
+
+    def result(self, n_last: int) -> dict[str, np.ndarray]:
+        conv = self.last_bad < n_last
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rms = np.sqrt(self.sumsq / self.count)
+        nan = np.nan
+        return {
+            "t_converge": np.where(conv, (self.last_bad + 1) * self.dt, nan),
+            "max_after": np.where(conv, self.max_after, nan),
+            "rms_after": np.where(conv, rms, nan),
+            "peak": self.peak,
+            "t_peak": self.t_peak,
+            "final": self.final,
+            "t_diverge": self.t_diverge,
+        }
+
+
+# ---------------------------------------------------------------------------------- driver
+def _segment_blocks(K: int, N: int, width: int, segment_steps: int | None) -> int:
+    """Blocks per segment: about 2²¹ floats per (K, steps, width) array unless told."""
+    steps = segment_steps if segment_steps is not None else max(N, (1 << 21) // max(K * width, 1))
+    return max(1, int(steps) // N)
+
+
+def simulate_batch(
+    design: Any,
+    scenarios: Sequence[Scenario],
+    *,
+    t_final: Any,
+    dt: Any,
+    plant: Any = None,
+    plant_h: Any = None,
+    tol: float = 1e-3,
+    diverge: float = 1e6,
+    trajectories: bool = False,
+    discretisation: str | None = None,
+    segment_steps: int | None = None,
+    progress: bool | None = None,
+) -> BatchResult:
+    """Run ``len(scenarios)`` scenarios of ``design`` on one plant in one vectorised call.
+
+    Parameters
+    ----------
+    design : ObserverDesign
+        Any design (its ``numeric()`` model runs, as in :func:`simulate_observer`).
+    scenarios : sequence of Scenario
+        What differs between runs: x0, w, u, noise and seed, x_hat0.
+    t_final, dt : float
+        Horizon and step (``dt`` divides the observer's h and the plant's).
+    plant : DelaySystem, optional
+        The plant of every scenario (default ``design.system``; e.g. a perturbed one).
+    plant_h : float, optional
+        The plant's true delay (default: the design's h).  ``plant_h ≠ h`` simulates a
+        delay mismatch: the observer still reads its taps at multiples of the design's h.
+    tol : float
+        Tolerance of the convergence time (on ``‖x − x̂‖_∞``).
+    diverge : float
+        An error above this (or not finite) marks the run as diverged (``t_diverge``).
+    trajectories : bool
+        Keep ``x, y, x̂`` (and ``ŵ``) of every scenario (memory ∝ K · steps); default: metrics only.
+    discretisation : str, optional
+        Of injection terms, as in :func:`simulate_observer`.
+    segment_steps : int, optional
+        Steps per segment (rounded down to whole delay blocks); default: bounded memory.
+    progress : bool, optional
+        Progress bar on stderr.
+
+    Returns
+    -------
+    BatchResult
+        ``metrics`` (one (K,) array per entry of :data:`METRICS`) and, on request, trajectories.
+
+    Raises
+    ------
+    SimulationError
+        For inputs that :func:`simulate_observer` would refuse (a run that diverges is not an
+        error: its metrics say so).
+    """
+    sys = plant if plant is not None else getattr(design, "system", None)
+    if sys is None:
+        raise SimulationError("plant is required: the design has no system")
+    scen = list(scenarios)
+    if not scen or not all(isinstance(s, Scenario) for s in scen):
+        raise SimulationError("scenarios: expected a non-empty sequence of Scenario(...)")
+    dtv = as_float(dt, "dt")
+    tolv, divv = float(tol), float(diverge)
+    if not (tolv > 0 and divv > 0):
+        raise SimulationError(f"tol={tol!r} and diverge={diverge!r} must be positive")
+    model = design.numeric(h=getattr(sys, "h", None))
+    _check_sizes(model, sys)
+    stepper = model.stepper(dtv, discretisation=discretisation)
+    if model.h is not None:
+        dtv = stepper.dt
+        ph = float(model.h) if plant_h is None else as_float(plant_h, "plant_h")
+    else:  # a delay-free observer: the plant's h (its delays), else one block per step
+        sys_h = getattr(sys, "h", None) if plant_h is None else plant_h
+        ph = dtv if sys_h is None else as_float(sys_h, "h")
+        dtv = ph / round(ph / dtv)
+    S = SystemArrays.from_system(sys)
+    n_steps = step_count(as_float(t_final, "t_final"), dtv)
+    K = len(scen)
+    with blas_single_thread():
+        bp = _BatchPlant(S, ph, dtv, n_steps, scen)
+        L = stepper.history_length
+        uh = np.zeros((L, K, model.n_u))
+        if model.n_u:
+            for k, sc in enumerate(scen):
+                uh[:, k] = input_samples(sc.u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=dtv, name="u").T
+        bo = _BatchObserver(stepper, scen, uh)
+        met = _Metrics(K, dtv, tolv, divv)
+        width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4
+        nb = _segment_blocks(K, bp.N, width, segment_steps)
+        keep: list[tuple[np.ndarray, ...]] = []
+        total = -(-n_steps // bp.N) if n_steps else 1
+        with Progress(total, want_progress(progress, n_steps * K), "batch") as bar, np.errstate(all="ignore"):
+            while bp.b0 == 0 or bp.b0 * bp.N < n_steps:
+                jlo, jhi, X, Y, U = bp.segment(nb)
+                xh, wh = bo.segment(jlo, Y, U)
+                e = np.max(np.abs(X - xh), axis=2) if S.n_x else np.zeros(X.shape[:2])
+                met.update(jlo, e.T)
+                if trajectories:
+                    keep.append((X, Y, xh, wh))
+                bar.update(bp.b0)
+                if n_steps == 0:
+                    break
+    t = np.arange(n_steps + 1) * dtv
+    out: dict[str, Any] = {}
+    if trajectories:
+        for i, name in enumerate(("x", "y", "x_hat", "w_hat")):
+            if name != "w_hat" or model.W is not None:  # (T, K, n) → (K, n, T)
+                out[name] = np.ascontiguousarray(np.concatenate([k[i] for k in keep], axis=0).transpose(1, 2, 0))
+    return BatchResult(metrics=met.result(n_steps), t=t, tol=tolv, diverge=divv,
+                       extra={"model": model, "stepper": stepper, "plant_h": ph}, **out)
