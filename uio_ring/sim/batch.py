@@ -353,6 +353,7 @@ class _BatchObserver:
         self.scan = LinearScan(st.Phi, chunk=16) if st.inj is None else None
         self.binj = None if st.inj is None else _BatchInjection(st.inj)
         self.Ytail: np.ndarray | None = None
+        self.Utail = self.Ztail = self.xi = np.zeros(0)
 
     def _xi0(self, Yrows: np.ndarray, Urows: np.ndarray, off: int) -> np.ndarray:
         st = self.st
@@ -399,6 +400,7 @@ class _BatchObserver:
         elif K >= 8 or steps.size <= 32:  # one small product per step carries K scenarios
             Xi = _scan_steps(self.st.Phi, xi_prev, Fq)
         else:
+            assert self.scan is not None  # linear models have one
             Xi = _scan_k(self.scan, xi_prev, np.ascontiguousarray(Fq.transpose(1, 0, 2))).transpose(1, 0, 2)
         if first:
             Xi = np.concatenate([xi_prev[None], Xi], axis=0)
@@ -627,7 +629,7 @@ def simulate_batch(
         met = _Metrics(K, dtv, tolv, divv)
         width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4
         nb = _segment_blocks(K, bp.N, width, segment_steps)
-        keep: list[tuple[np.ndarray, ...]] = []
+        keep: list[tuple[Any, ...]] = []
         total = -(-n_steps // bp.N) if n_steps else 1
         with Progress(total, want_progress(progress, n_steps * K), "batch") as bar, np.errstate(all="ignore"):
             while bp.b0 == 0 or bp.b0 * bp.N < n_steps:
