@@ -378,7 +378,8 @@ class _BatchObserver:
         if st.n_u == 0:
             U = np.zeros((Sn, K, 0))
         first = self.Ytail is None
-        if first:  # y held at y(0) before 0; u from its history (and one more row, never read)
+        Yt: np.ndarray
+        if self.Ytail is None:  # y held at y(0) before 0; u from its history (and one more row, never read)
             Yt = np.repeat(Y[:1], Lt, axis=0)
             Ut = np.concatenate([self.u_history[:1], self.u_history], axis=0)
         else:
