@@ -57,6 +57,8 @@ _LAZY: dict[str, str] = {
     "simulate_batch": "uio_ring.sim.batch",
     "Scenario": "uio_ring.sim.batch",
     "BatchResult": "uio_ring.sim.batch",
+    "sweep": "uio_ring.sweeps.runner",
+    "load_sweep": "uio_ring.sweeps.spec",
     "SimulationResult": "uio_ring.sim.result",
     "ObserverModel": "uio_ring.numeric.model",
     # spec files and design files (issue 5)

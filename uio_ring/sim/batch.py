@@ -40,7 +40,6 @@ from uio_ring.numeric.history import sample_history
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import block_integrator
 from uio_ring.sim._progress import Progress, want_progress
-from uio_ring.sim.engine import _check_sizes
 from uio_ring.sim.plant import SystemArrays
 from uio_ring.sim.signals import UniformNoise, as_noise, input_samples
 
@@ -54,6 +53,8 @@ METRICS = {
     "peak": "max of e(t) over the run",
     "t_peak": "time of the peak",
     "final": "e(t_final)",
+    "max_settled": "max of e(t) for t ≥ settle (a bias that does not decay shows here)",
+    "rms_settled": "RMS of e(t) for t ≥ settle",
     "t_diverge": "first time e(t) > diverge or not finite (NaN: never)",
 }
 
@@ -480,8 +481,12 @@ class _BatchObserver:
 class _Metrics:
     """On-the-fly error metrics of K runs (see :data:`METRICS`)."""
 
-    def __init__(self, K: int, dt: float, tol: float, diverge: float):
+    def __init__(self, K: int, dt: float, tol: float, diverge: float, settle: float):
         self.dt, self.tol, self.diverge = dt, tol, diverge
+        self.j_settle = int(np.ceil(settle / dt - 1e-9))
+        self.max_set = np.zeros(K)
+        self.sq_set = np.zeros(K)
+        self.n_set = 0
         nan = np.full(K, np.nan)
         self.last_bad = np.full(K, -1)  # last index with e > tol (or not finite)
         self.max_after = np.zeros(K)
@@ -518,6 +523,11 @@ class _Metrics:
         new = div.any(axis=1) & np.isnan(self.t_diverge)
         self.t_diverge = np.where(new, (jlo + first) * self.dt, self.t_diverge)
         self.final = e[:, -1]
+        es = e[:, max(self.j_settle - jlo, 0) :]
+        if es.shape[1]:
+            self.max_set = np.maximum(self.max_set, np.where(np.isfinite(es), es, np.inf).max(axis=1))
+            self.sq_set = self.sq_set + (es * es).sum(axis=1)
+            self.n_set += es.shape[1]
 
     def result(self, n_last: int) -> dict[str, np.ndarray]:
         conv = self.last_bad < n_last
@@ -532,6 +542,8 @@ class _Metrics:
             "t_peak": self.t_peak,
             "final": self.final,
             "t_diverge": self.t_diverge,
+            "max_settled": self.max_set if self.n_set else np.full_like(self.peak, np.nan),
+            "rms_settled": np.sqrt(self.sq_set / self.n_set) if self.n_set else np.full_like(self.peak, np.nan),
         }
 
 
@@ -552,6 +564,7 @@ def simulate_batch(
     plant_h: Any = None,
     tol: float = 1e-3,
     diverge: float = 1e6,
+    settle: float | None = None,
     trajectories: bool = False,
     discretisation: str | None = None,
     segment_steps: int | None = None,
@@ -576,6 +589,8 @@ def simulate_batch(
         Tolerance of the convergence time (on ``‖x − x̂‖_∞``).
     diverge : float
         An error above this (or not finite) marks the run as diverged (``t_diverge``).
+    settle : float, optional
+        Start of the window of ``max_settled`` and ``rms_settled`` (default ``t_final / 2``).
     trajectories : bool
         Keep ``x, y, x̂`` (and ``ŵ``) of every scenario (memory ∝ K · steps); default: metrics only.
     discretisation : str, optional
@@ -607,7 +622,10 @@ def simulate_batch(
     if not (tolv > 0 and divv > 0):
         raise SimulationError(f"tol={tol!r} and diverge={diverge!r} must be positive")
     model = design.numeric(h=getattr(sys, "h", None))
-    _check_sizes(model, sys)
+    S = SystemArrays.from_system(sys)
+    if (model.n_x, model.n_y) != (S.n_x, S.n_y) or (S.n_u and model.n_u != S.n_u):
+        raise DimensionError(f"the design is for {model.n_x} states, {model.n_y} outputs and {model.n_u} known "
+                             f"inputs; the plant has {S.n_x}, {S.n_y} and {S.n_u}")
     stepper = model.stepper(dtv, discretisation=discretisation)
     if model.h is not None:
         dtv = stepper.dt
@@ -616,7 +634,6 @@ def simulate_batch(
         sys_h = getattr(sys, "h", None) if plant_h is None else plant_h
         ph = dtv if sys_h is None else as_float(sys_h, "h")
         dtv = ph / round(ph / dtv)
-    S = SystemArrays.from_system(sys)
     n_steps = step_count(as_float(t_final, "t_final"), dtv)
     K = len(scen)
     with blas_single_thread():
@@ -627,7 +644,8 @@ def simulate_batch(
             for k, sc in enumerate(scen):
                 uh[:, k] = input_samples(sc.u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=dtv, name="u").T
         bo = _BatchObserver(stepper, scen, uh)
-        met = _Metrics(K, dtv, tolv, divv)
+        tf = n_steps * dtv
+        met = _Metrics(K, dtv, tolv, divv, tf / 2 if settle is None else float(settle))
         width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4
         nb = _segment_blocks(K, bp.N, width, segment_steps)
         keep: list[tuple[Any, ...]] = []

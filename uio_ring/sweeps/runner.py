@@ -1,0 +1,347 @@
+"""Running a sweep: chunks as tasks (local processes or dask.distributed), one file per chunk.
+
+Each chunk (runs that share the plant and the design) is one task: it designs the
+observer once, builds one :class:`~uio_ring.sim.batch.Scenario` per run and calls
+:func:`~uio_ring.sim.batch.simulate_batch` once.  Its rows are written to
+``<out>/chunks/<chunk file>`` as soon as it is done; a rerun of the same sweep
+skips the chunks whose file exists (the file name carries a hash of everything that
+changes the numbers).  A run that cannot be built, or a chunk whose design fails,
+gives rows with the error message instead of metrics.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+
+from uio_ring.errors import SpecError, require
+from uio_ring.sweeps.spec import Chunk, Run, SweepSpec, load_sweep
+
+__all__ = ["sweep", "SweepResult", "run_chunk"]
+
+_DESIGNS: dict[str, Any] = {}  # per process: design key -> (spec, design, noise gain)
+
+
+# ---------------------------------------------------------------------------------- one chunk
+def _spec_for(base: dict[str, Any], params: dict[str, Any], options: Sequence[str]) -> Any:
+    from uio_ring.spec.loader import spec_from_dict
+
+    data = dict(base)
+    design = dict(data.get("design") or {})
+    for k, v in params.items():
+        if k == "method" or k in options:
+            design[k] = v
+    if design:
+        data["design"] = design
+    return spec_from_dict(data)
+
+
+def _design(spec: Any) -> Any:
+    from uio_ring.design.methods import design_auto, design_with
+
+    if spec.design.method == "auto":
+        return design_auto(spec.system, **spec.design.options).design
+    return design_with(spec.design.method, spec.system, **spec.design.options)
+
+
+def _noise_gain(design: Any, h: Any, dt: float) -> float:
+    """``max_i Σ_j gain[i, j]``: the largest estimate deviation per unit output noise (linear observers)."""
+    model = design.numeric(h=h)
+    if model.injection is not None:
+        return float("nan")
+    try:
+        return float(model.stepper(dt).noise_gain().sum(axis=1).max())
+    except Exception:  # noqa: BLE001 - an unstable or unusual observer has no finite gain
+        return float("nan")
+
+
+def _plant(system: Any, eps: float, seed: int) -> Any:
+    """The plant with every matrix ``M ∘ (1 + ε R)``, ``R`` uniform in [−1, 1] (seeded)."""
+    from uio_ring.sim.plant import SystemArrays
+
+    if eps == 0:
+        return system
+    S = SystemArrays.from_system(system)
+    rng = np.random.default_rng([seed, 7919])
+    mats = {}
+    for name in "ABCDEF":
+        M = getattr(S, name)
+        mats[name] = M * (1.0 + eps * rng.uniform(-1.0, 1.0, size=M.shape))
+    return SimpleNamespace(**mats, h=system.h, is_delay_free=system.is_delay_free,
+                           state_names=system.state_names, output_names=system.output_names,
+                           unknown_input_names=system.unknown_input_names,
+                           known_input_names=system.known_input_names)
+
+
+def _w_signal(spec: Any, p: dict[str, Any], seed: int, n_w: int, t_final: float) -> Any:
+    fam = p.get("w_family", "base")
+    a = float(p.get("w_amplitude", 1.0))
+    f = float(p.get("w_frequency", 1.0))
+    if fam == "zero" or n_w == 0:
+        return None
+    if fam == "base":
+        base = spec.simulate.signal("w")
+        return None if base is None else (lambda t: a * base(t))
+    if fam == "sine":
+        phase = np.random.default_rng([seed, 17]).uniform(0, 2 * np.pi, size=(n_w, 1))
+        return lambda t: a * np.sin(f * np.asarray(t, dtype=float)[None, :] + phase)
+    if fam == "step":
+        return lambda t: a * np.repeat((np.asarray(t, dtype=float) >= 1.0 / f)[None, :], n_w, axis=0).astype(float)
+    levels = np.random.default_rng([seed, 23]).uniform(-a, a, size=(n_w, int(np.ceil(t_final * f)) + 2))
+
+    def pwc(t: Any) -> Any:  # random piecewise constant, dwell 1/f, zero before 0
+        t = np.asarray(t, dtype=float)
+        k = np.clip(np.floor(t * f).astype(int), 0, levels.shape[1] - 1)
+        return np.where(t[None, :] >= 0, levels[:, k], 0.0)
+
+    return pwc
+
+
+def _scenario(spec: Any, run: Run, n_x: int, n_w: int) -> Any:
+    from uio_ring.sim.batch import Scenario
+    from uio_ring.sim.signals import UniformNoise
+
+    sim, p = spec.simulate, run.params
+    scale = float(p.get("x0_scale", 1.0))
+    r = float(p.get("x0_random", 0.0))
+    phi = sim.signal("phi")
+    shift = np.random.default_rng([run.seed, 29]).uniform(-r, r, size=(n_x, 1)) if r else np.zeros((n_x, 1))
+    if phi is None:
+        x0: Any = shift[:, 0]
+    else:
+        x0 = lambda t: scale * phi(t) + shift  # noqa: E731
+    base_noise = sim.noise()
+    amp = p.get("noise", None if base_noise is None else base_noise.amplitude)
+    seed = int(p.get("noise_seed", run.seed))
+    noise = None if amp is None else UniformNoise(amp, seed=seed)
+    x_hat0 = None if sim.x_hat0 is None else [float(v) for v in sim.x_hat0]
+    return Scenario(x0=x0, w=_w_signal(spec, p, run.seed, n_w, float(sim.t_final)), u=sim.signal("u"),
+                    noise=noise, x_hat0=x_hat0)
+
+
+def _row(run: Run, chunk: int, axes: Sequence[str], metrics: dict[str, float], gain: float, error: str) -> dict:
+    from uio_ring.sim.batch import METRICS
+
+    row: dict[str, Any] = {"run": run.run, "seed": run.seed, "chunk": chunk}
+    for a in axes:
+        v = run.params.get(a)
+        row[a] = json.dumps(v) if isinstance(v, (list, dict)) else v
+    for k in METRICS:
+        row[k] = float(metrics.get(k, np.nan))
+    row["noise_gain"] = gain
+    row["error"] = error
+    return row
+
+
+def run_chunk(task: dict[str, Any]) -> list[dict[str, Any]]:
+    """One chunk: design once, simulate every run of it in one batch; rows (errors included)."""
+    from uio_ring.sim.batch import simulate_batch
+
+    chunk: Chunk = task["chunk"]
+    axes, base, options = task["axes"], task["base"], task["options"]
+    runs = chunk.runs
+    p0 = runs[0].params
+    try:
+        key = json.dumps({"base": task["digest"], "d": {k: v for k, v in p0.items() if k == "method" or k in options}},
+                         sort_keys=True, default=str)
+        if key not in _DESIGNS:
+            spec = _spec_for(base, p0, options)
+            design = _design(spec)
+            sim = spec.simulate
+            h = None if spec.system.h is None else float(sim.h)
+            _DESIGNS[key] = (spec, design, _noise_gain(design, h, float(sim.dt)))
+        spec, design, gain = _DESIGNS[key]
+        plant = _plant(spec.system, float(p0.get("perturbation", 0.0)), int(p0.get("perturbation_seed", 0)))
+    except Exception as exc:  # noqa: BLE001 - a failing design is a row per run, not a lost chunk
+        msg = f"{type(exc).__name__}: {exc}"
+        return [_row(r, chunk.index, axes, {}, np.nan, msg) for r in runs]
+    sim = spec.simulate
+    rows: dict[int, dict[str, Any]] = {}
+    good, scen = [], []
+    for r in runs:
+        try:
+            scen.append(_scenario(spec, r, spec.system.n_x, spec.system.n_w))
+            good.append(r)
+        except Exception as exc:  # noqa: BLE001
+            rows[r.run] = _row(r, chunk.index, axes, {}, gain, f"{type(exc).__name__}: {exc}")
+    if good:
+        try:
+            h_true = p0.get("h_true")
+            res = simulate_batch(design, scen, plant=plant, plant_h=h_true, t_final=float(sim.t_final),
+                                 dt=float(sim.dt), tol=task["tol"], diverge=task["diverge"],
+                                 settle=None if sim.settle is None else float(sim.settle),
+                                 discretisation=p0.get("discretisation", sim.discretisation))
+            for i, r in enumerate(good):
+                rows[r.run] = _row(r, chunk.index, axes, {k: v[i] for k, v in res.metrics.items()}, gain, "")
+        except Exception as exc:  # noqa: BLE001
+            msg = f"{type(exc).__name__}: {exc}"
+            for r in good:
+                rows[r.run] = _row(r, chunk.index, axes, {}, gain, msg)
+    return [rows[r.run] for r in runs]
+
+
+# ---------------------------------------------------------------------------------- the sweep
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """What :func:`sweep` returns: the table (a pandas DataFrame, one row per run), where it
+    was written, the chunks computed now and the chunks found done, and the summary PNGs."""
+
+    table: Any
+    path: Path
+    computed: int
+    skipped: int
+    plots: tuple[Path, ...] = ()
+    files: tuple[Path, ...] = field(default=())
+
+    def __repr__(self) -> str:
+        return (f"<SweepResult: {len(self.table)} runs, {self.computed} chunks computed, {self.skipped} found done; "
+                f"{self.path}>")
+
+
+def _write_chunk(rows: list[dict[str, Any]], path: Path) -> None:
+    pd = require("pandas", extra="sweep")
+    tmp = path.with_suffix(".tmp")
+    pd.DataFrame(rows).to_parquet(tmp, index=False)
+    os.replace(tmp, path)  # a chunk file is complete or absent
+
+
+def _progress(total_runs: int, show: bool) -> Callable[[int], None]:
+    t0 = time.perf_counter()
+    done = [0]
+
+    def update(n: int) -> None:
+        done[0] += n
+        if not show:
+            return
+        el = time.perf_counter() - t0
+        left = el / done[0] * (total_runs - done[0]) if done[0] else float("nan")
+        end = "\n" if done[0] >= total_runs else ""
+        print(f"\rsweep: {done[0]}/{total_runs} runs, {el:.0f} s elapsed, ~{left:.0f} s left", end=end,
+              file=sys.stderr, flush=True)
+
+    return update
+
+
+def sweep(
+    sweep_file: Any,
+    *,
+    out: Any = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    formats: Sequence[str] | None = None,
+    progress: bool | None = None,
+    on_chunk: Callable[[Chunk], None] | None = None,
+) -> SweepResult:
+    """Run a sweep (a file name, or a :class:`SweepSpec`); write one Parquet file per chunk and the table.
+
+    Parameters
+    ----------
+    sweep_file : str, Path or SweepSpec
+    out : directory, optional
+        Default: the sweep's ``output.directory`` (relative to the file), else ``./uio-ring-out/<name>``.
+    workers : int, optional
+        Local processes (default: ``os.cpu_count()``); 1 runs in this process.
+    scheduler : str, optional
+        Address of a ``dask.distributed`` scheduler: the chunks are its tasks.
+    formats : sequence of str, optional
+        ``parquet`` (always written), ``csv``, ``png`` (summary plots); default: the file's.
+    progress : bool, optional
+        Runs done / total and the time left on stderr (default: when stderr is a terminal).
+    on_chunk : callable, optional
+        Called with each chunk when its file is written.
+
+    Returns
+    -------
+    SweepResult
+        ``table`` (pandas DataFrame, one row per run, sorted by run), files, counts.
+
+    Raises
+    ------
+    MissingDependencyError
+        Without pandas and pyarrow (``pip install 'uio-ring[sweep]'``), or dask for ``scheduler``.
+    """
+    pd = require("pandas", extra="sweep")
+    require("pyarrow", extra="sweep")
+    sw = sweep_file if isinstance(sweep_file, SweepSpec) else load_sweep(sweep_file)
+    if out is None:
+        if sw.directory is not None:
+            root = Path(sw.source).parent if sw.source else Path(".")
+            out = root / sw.directory
+        else:
+            out = Path("uio-ring-out") / sw.name
+    out = Path(out)
+    cdir = out / "chunks"
+    cdir.mkdir(parents=True, exist_ok=True)
+    chunks = sw.chunks()
+    todo = [c for c in chunks if not (cdir / c.filename).exists()]
+    axes = [a.name for a in sw.axes]
+    common = {"axes": axes, "base": sw.base, "options": list(sw.design_options), "tol": sw.tol,
+              "diverge": sw.diverge, "digest": sw.digest()}
+    tasks = [dict(common, chunk=c) for c in todo]
+    show = sys.stderr.isatty() if progress is None else progress
+    bar = _progress(sum(len(c.runs) for c in chunks), show)
+    bar(sum(len(c.runs) for c in chunks) - sum(len(c.runs) for c in todo))
+
+    def done(task: dict[str, Any], rows: list[dict[str, Any]]) -> None:
+        c = task["chunk"]
+        _write_chunk(rows, cdir / c.filename)
+        bar(len(c.runs))
+        if on_chunk is not None:
+            on_chunk(c)
+
+    if tasks:
+        if scheduler is not None:
+            _run_dask(tasks, scheduler, done)
+        else:
+            _run_local(tasks, workers, done)
+    table = pd.concat([pd.read_parquet(cdir / c.filename) for c in chunks], ignore_index=True)
+    table = table.sort_values("run", kind="stable").reset_index(drop=True)
+    fmts = tuple(formats) if formats is not None else sw.formats
+    path = out / f"{sw.name}.parquet"
+    table.to_parquet(path, index=False)
+    files = [path]
+    if "csv" in fmts:
+        files.append(out / f"{sw.name}.csv")
+        table.to_csv(files[-1], index=False)
+    plots: tuple[Path, ...] = ()
+    if "png" in fmts:
+        from uio_ring.sweeps.plots import summary_plots
+
+        plots = tuple(summary_plots(table, sw, out))
+    return SweepResult(table=table, path=path, computed=len(todo), skipped=len(chunks) - len(todo),
+                       plots=plots, files=tuple(files))
+
+
+def _run_local(tasks: list[dict[str, Any]], workers: int | None, done: Callable[..., None]) -> None:
+    n = workers if workers is not None else (os.cpu_count() or 1)
+    if n < 1:
+        raise SpecError(f"workers={workers}: expected at least 1")
+    if n == 1 or len(tasks) == 1:
+        for t in tasks:
+            done(t, run_chunk(t))
+        return
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    with ProcessPoolExecutor(max_workers=min(n, len(tasks)), mp_context=mp.get_context("spawn")) as pool:
+        futures = {pool.submit(run_chunk, t): t for t in tasks}
+        for f in as_completed(futures):
+            done(futures[f], f.result())
+
+
+def _run_dask(tasks: list[dict[str, Any]], scheduler: str, done: Callable[..., None]) -> None:
+    distributed = require("distributed", extra="sweep")
+    with distributed.Client(scheduler, set_as_default=False) as client:
+        futures = {client.submit(run_chunk, t, key=f"uio-ring-{t['chunk'].filename}", pure=False): t
+                   for t in tasks}
+        for f in distributed.as_completed(list(futures)):
+            done(futures[f], f.result())
