@@ -32,6 +32,10 @@ try:  # pragma: no cover - present once the spec layer exists
 except ImportError:  # pragma: no cover
     pass
 
+from uio_ring.cli import sweep_command  # noqa: E402
+
+_COMMAND_MODULES.append(sweep_command)
+
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(

@@ -25,7 +25,7 @@ def summary_plots(table: Any, sw: Any, out: Path) -> list[Path]:
 
     ``<name>_errors.png``: the final error ``‖x − x̂‖_∞(t_final)`` against each numeric axis
     (one point per run, the median per value as a line); ``<name>_heatmap.png``: the median
-    of log10 of the final error over the first two numeric axes; ``<name>_convergence.png``:
+    of log10 of the final error over the first two numeric grid axes; ``<name>_convergence.png``:
     the histogram of the convergence times (runs that did not converge counted in the title).
     """
     matplotlib = require("matplotlib", extra="plot")
@@ -49,8 +49,9 @@ def summary_plots(table: Any, sw: Any, out: Path) -> list[Path]:
         axs[0][0].legend()
         fig.suptitle(f"{sw.name}: final error against each axis")
         paths.append(_save(fig, out / f"{sw.name}_errors.png", plt))
-    if len(axes) >= 2:
-        a, b = axes[:2]
+    grid = [a for a in axes if a in sw.grid_axes]
+    if len(grid) >= 2:
+        a, b = grid[:2]
         with np.errstate(divide="ignore"):
             logf = np.log10(final)
         df = ok.assign(_logf=logf)

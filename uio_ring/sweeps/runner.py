@@ -340,7 +340,7 @@ def _run_local(tasks: list[dict[str, Any]], workers: int | None, done: Callable[
 
 def _run_dask(tasks: list[dict[str, Any]], scheduler: str, done: Callable[..., None]) -> None:
     distributed = require("distributed", extra="sweep")
-    with distributed.Client(scheduler, set_as_default=False) as client:
+    with distributed.Client(scheduler) as client:
         futures = {client.submit(run_chunk, t, key=f"uio-ring-{t['chunk'].filename}", pure=False): t
                    for t in tasks}
         for f in distributed.as_completed(list(futures)):

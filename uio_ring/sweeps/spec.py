@@ -143,27 +143,27 @@ def _axis(name: str, spec: Any, where: str) -> Axis:
     (kind, arg), = spec.items()
     if kind == "grid":
         if not isinstance(arg, list) or not arg:
-            raise SpecError("grid: expected a non-empty list", path=f"{where}.grid")
+            raise SpecError("expected a non-empty list", path=f"{where}.grid")
         return Axis(name, values=tuple(_value(name, v, f"{where}.grid[{i}]") for i, v in enumerate(arg)))
     if kind == "linspace":
         if not isinstance(arg, list) or len(arg) != 3 or isinstance(arg[2], bool) or not isinstance(arg[2], int) \
                 or arg[2] < 1:
-            raise SpecError("linspace: expected [start, stop, count ≥ 1]", path=f"{where}.linspace")
+            raise SpecError("expected [start, stop, count ≥ 1]", path=f"{where}.linspace")
         lo, hi = _num(arg[0], f"{where}.linspace[0]"), _num(arg[1], f"{where}.linspace[1]")
         vals = np.linspace(lo, hi, int(arg[2]))
         return Axis(name, values=tuple(_value(name, float(v), where) for v in vals))
     if kind in ("uniform", "loguniform"):
         if not isinstance(arg, list) or len(arg) != 2:
-            raise SpecError(f"{kind}: expected [low, high]", path=f"{where}.{kind}")
+            raise SpecError("expected [low, high]", path=f"{where}.{kind}")
         lo, hi = (_num(v, f"{where}.{kind}[{i}]") for i, v in enumerate(arg))
         if not lo <= hi or (kind == "loguniform" and not lo > 0):
-            raise SpecError(f"{kind}: expected {'0 < ' if kind == 'loguniform' else ''}low ≤ high, got {arg}",
+            raise SpecError(f"expected {'0 < ' if kind == 'loguniform' else ''}low ≤ high, got {arg}",
                             path=f"{where}.{kind}")
         _value(name, lo, where), _value(name, hi, where)
         return Axis(name, law=kind, args=(lo, hi))
     if kind == "choice":
         if not isinstance(arg, list) or not arg:
-            raise SpecError("choice: expected a non-empty list", path=f"{where}.choice")
+            raise SpecError("expected a non-empty list", path=f"{where}.choice")
         return Axis(name, law="choice", args=tuple(_value(name, v, f"{where}.choice[{i}]") for i, v in enumerate(arg)))
     raise SpecError(f"unknown axis kind {kind!r}; expected grid, linspace, uniform, loguniform or choice",
                     path=where)

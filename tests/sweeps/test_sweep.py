@@ -1,0 +1,154 @@
+"""Sweeps: sweep files, chunks, the runner (local and dask.distributed), resumability, the CLI."""
+
+from __future__ import annotations
+
+import os
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pd = pytest.importorskip("pandas")
+pytest.importorskip("pyarrow")
+
+from uio_ring.cli import main  # noqa: E402
+from uio_ring.errors import SpecError  # noqa: E402
+from uio_ring.sweeps import load_sweep, sweep, sweep_from_dict  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+H = [0.01, 0.011, 0.012, 0.013]  # the design's h is 0.01
+
+
+def _mismatch(tmp_path: Path, **extra) -> Path:
+    text = f"""
+base: {EXAMPLES / "zheng2015.yaml"}
+name: mismatch
+seed: 3
+samples: 2
+chunk_size: 2
+simulate: {{t_final: 1.5, dt: 0.001, settle: 1}}
+axes:
+  h_true: {H}
+"""
+    for k, v in extra.items():
+        text += f"{k}: {v}\n"
+    p = tmp_path / "sweep.yaml"
+    p.write_text(text)
+    return p
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=40) as c:
+        yield c
+
+
+def test_delay_mismatch_on_two_dask_workers(tmp_path, cluster):
+    """One row per run; the nominal runs are simulate_observer's; the error grows with |h_true − h|
+    (the observer reads its taps at multiples of the design's h: a mismatch leaves a bias that
+    does not decay, larger as the mismatch grows); 1 and 2 workers give the same table."""
+    from uio_ring import simulate_observer
+    from uio_ring.spec import load_spec
+    from uio_ring.sweeps.runner import _design
+
+    f = _mismatch(tmp_path)
+    res = sweep(f, out=tmp_path / "dask", scheduler=cluster.scheduler_address, formats=["parquet"])
+    t = res.table
+    assert len(t) == 8 and list(t["run"]) == list(range(8)) and (t["error"] == "").all()
+    assert res.computed == 4 and res.skipped == 0
+    spec = load_spec(EXAMPLES / "zheng2015.yaml")
+    r = simulate_observer(_design(spec), t_final=1.5, dt=0.001, w=spec.simulate.signal("w"),
+                          x0=spec.simulate.signal("phi"))
+    e = np.max(np.abs(r.error), axis=0)
+    for _, row in t[t["h_true"] == 0.01].iterrows():
+        assert row["peak"] == pytest.approx(e.max(), rel=1e-10)
+        assert row["final"] == pytest.approx(e[-1], rel=1e-8)
+        assert row["max_settled"] == pytest.approx(e[r.t >= 1 - 1e-12].max(), rel=1e-8)
+    med = t.groupby("h_true")["max_settled"].median()
+    assert med[0.01] < med[0.011] / 5 and np.all(np.diff(med.to_numpy()) > 0)
+    local = sweep(f, out=tmp_path / "local", workers=1, formats=["parquet"]).table
+    pd.testing.assert_frame_equal(local, t)
+
+
+def test_a_killed_worker_loses_no_chunk(tmp_path, cluster):
+    from distributed import Client
+
+    f = _mismatch(tmp_path)
+    killed = []
+
+    def kill_one(chunk):
+        if not killed:
+            with Client(cluster.scheduler_address) as c:
+                pids = c.run(os.getpid)  # the worker processes this test's cluster started
+            os.kill(pids[sorted(pids)[0]], signal.SIGKILL)
+            killed.append(chunk.index)
+
+    res = sweep(f, out=tmp_path / "o", scheduler=cluster.scheduler_address, formats=["parquet"], on_chunk=kill_one)
+    assert killed and len(res.table) == 8 and (res.table["error"] == "").all()
+    again = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet"])
+    assert again.computed == 0 and again.skipped == 4
+
+
+def test_resumable_and_reproducible(tmp_path):
+    f = _mismatch(tmp_path)
+    first = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet", "csv"])
+    files = sorted((tmp_path / "o" / "chunks").glob("chunk-*.parquet"))
+    assert len(files) == 4 and (tmp_path / "o" / "mismatch.csv").exists()
+    files[2].unlink()  # as if the run had stopped before this chunk
+    again = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet"])
+    assert (again.computed, again.skipped) == (1, 3)
+    pd.testing.assert_frame_equal(first.table, again.table)
+
+
+def test_failing_runs_are_rows(tmp_path):
+    f = _mismatch(tmp_path)
+    f.write_text(f.read_text().replace("h_true: [", "h_true: [0.0105, "))  # dt = 0.001 does not divide it
+    t = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet"]).table
+    bad = t[t["h_true"] == 0.0105]
+    assert len(t) == 10 and len(bad) == 2
+    assert bad["error"].str.contains("dt=0.001 is not h/N").all() and bad["peak"].isna().all()
+    assert (t[t["h_true"] != 0.0105]["error"] == "").all()
+
+
+def test_axes_and_draws():
+    base = {"system": {"A": [[-1]], "B": [[1]], "C": [[1]], "D": [[1]]}, "simulate": {"t_final": 1, "dt": "0.01"}}
+    sw = sweep_from_dict({"base": base, "seed": 5, "samples": 3, "chunk_size": 2,
+                          "axes": {"noise": {"linspace": [0, 1, 2]}, "x0_random": {"uniform": [0, 1]},
+                                   "w_family": {"choice": ["sine", "pwc"]}}})
+    runs = sw.runs()
+    assert [r.params["noise"] for r in runs] == [0.0] * 3 + [1.0] * 3
+    assert runs == sw.runs() and len({r.seed for r in runs}) == 6
+    assert all(0 <= r.params["x0_random"] <= 1 and r.params["w_family"] in ("sine", "pwc") for r in runs)
+    assert [len(c.runs) for c in sw.chunks()] == [2, 2, 2]  # one plant: chunks of chunk_size
+
+
+@pytest.mark.parametrize("axes, match", [
+    ({"h_tru": [1]}, r"axes\.h_tru: unknown axis"),
+    ({"noise": {"gauss": [0, 1]}}, r"axes\.noise: unknown axis kind 'gauss'"),
+    ({"noise": {"linspace": [0, 1]}}, r"axes\.noise\.linspace: expected \[start, stop, count"),
+    ({"noise": [-1]}, r"axes\.noise\.grid\[0\]: noise must be ≥ 0"),
+    ({"w_family": ["saw"]}, r"unknown family 'saw'"),
+    ({"h_true": {"loguniform": [0, 1]}}, r"axes\.h_true\.loguniform: expected 0 < low ≤ high"),
+])
+def test_bad_axes(axes, match):
+    base = {"system": {"A": [[-1]], "B": [[1]], "C": [[1]], "D": [[1]]}, "simulate": {"t_final": 1, "dt": "0.01"}}
+    with pytest.raises(SpecError, match=match):
+        sweep_from_dict({"base": base, "axes": axes})
+
+
+def test_cli_sweep(tmp_path, capsys):
+    f = _mismatch(tmp_path)
+    assert main(["sweep", str(f), "--out", str(tmp_path / "o"), "--workers", "1", "--csv", "--no-plot",
+                 "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "mismatch: 8 runs (4 chunks computed, 0 found done)" in out and "mismatch.csv" in out
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(f"base: {EXAMPLES / 'zheng2015.yaml'}\naxes: {{h_true: [0.01]}}\nchunks: 3\n")
+    assert main(["sweep", str(bad)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(bad) in err[0] and "chunks" in err[0]
+    with pytest.raises(SpecError, match="no such file"):
+        load_sweep(tmp_path / "missing.yaml")
