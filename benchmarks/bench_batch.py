@@ -1,0 +1,112 @@
+#!/usr/bin/env python
+"""Benchmark of the batched simulator (uio_ring.simulate_batch) against one run at a time.
+
+Problems
+    paper 001 §5: the Zheng–Bejarano observer (poles −10, −25, −50) on its plant, h = 0.01,
+        w = (−10 a sin 100t, 20 sin 20t) with a per-scenario factor a, random constant
+        initial states; a linear observer (one linear recursion).
+    paper 000 aircraft (n = 7): the observer normal form with two Levant differentiators
+        (gains (89)), implicit discretisation, w = 0.008 + a sin 2t + 0.002 cos 13t; a
+        per-step loop (vectorised over the K scenarios in the batch).
+
+What is timed
+    batch   simulate_batch(design, K scenarios, t_final, dt) — plant + observer + metrics,
+            no trajectories kept (bounded memory); best of 2 (the first call builds the tables).
+    single  simulate_observer once per scenario (plant + observer, trajectories), best of 2,
+            on a few scenarios; steps/s extrapolates to K.
+Both are checked to give the same numbers (max |x̂_batch − x̂_single| / max |x|).
+
+Usage::
+
+    python benchmarks/bench_batch.py            # K = 100 (paper 001: dt = 1e-4, 1 s; aircraft: dt = 1e-4, 0.5 s)
+    python benchmarks/bench_batch.py --K 400
+    python benchmarks/bench_batch.py --quick    # K = 8, short horizons: a smoke test
+
+Timings are never asserted in tests.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT), str(ROOT / "tests")]  # this checkout, and the paper data of the tests
+
+from design import paper000, paper001  # noqa: E402
+
+from uio_ring import design_normal_form, design_zheng_bejarano, simulate_observer  # noqa: E402
+from uio_ring.sim.batch import Scenario, simulate_batch  # noqa: E402
+
+
+def paper001_case(K: int, rng: np.random.Generator):
+    des = design_zheng_bejarano(paper001.system(), poles=[-10, -25, -50])
+
+    def w(a):
+        return lambda t: np.array([-10 * a * np.sin(100 * np.asarray(t, float)), 20 * np.sin(20 * np.asarray(t, float))])
+
+    scen = [Scenario(x0=rng.normal(size=4), w=w(rng.uniform(0.5, 2))) for _ in range(K)]
+    return des, scen, {}
+
+
+def aircraft_case(K: int, rng: np.random.Generator):
+    des = design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
+
+    def w(a):
+        return lambda t: 0.008 + a * np.sin(2 * t) + 0.002 * np.cos(13 * t)
+
+    scen = [Scenario(x0=np.array(paper000.X0) * rng.uniform(0.5, 1.5), w=w(rng.uniform(0, 0.01)))
+            for _ in range(K)]
+    return des, scen, {"discretisation": "implicit"}
+
+
+def best(f, repeats=2):
+    out, el = None, float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = f()
+        el = min(el, time.perf_counter() - t0)
+    return el, out
+
+
+def bench(name, case, K, t_final, dt, n_single):
+    des, scen, opts = case(K, np.random.default_rng(0))
+    steps = int(round(t_final / dt))
+    el_b, res = best(lambda: simulate_batch(des, scen, t_final=t_final, dt=dt, **opts))
+    traj = simulate_batch(des, scen[:n_single], t_final=t_final, dt=dt, trajectories=True, **opts)
+    singles = []
+
+    def one_at_a_time():
+        singles.clear()
+        for s in scen[:n_single]:
+            singles.append(simulate_observer(des, t_final=t_final, dt=dt, w=s.w, x0=s.x0, **opts))
+
+    el_s, _ = best(one_at_a_time)
+    dev = max(float(np.max(np.abs(r.x_hat - traj.x_hat[k])) / np.max(np.abs(r.x))) for k, r in enumerate(singles))
+    rate_b = K * steps / el_b
+    rate_s = n_single * steps / el_s
+    conv = int(np.sum(np.isfinite(res.metrics["t_converge"])))
+    print(f"{name:<26} {K:>5} {steps:>7} {el_b:>9.3f} {rate_b:>12.3g} {rate_s:>12.3g} {rate_b / rate_s:>8.1f} "
+          f"{dev:>10.1e} {conv:>5}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="K = 8, short horizons (smoke test)")
+    ap.add_argument("--K", type=int, default=100, help="scenarios per batch")
+    args = ap.parse_args()
+    K = 8 if args.quick else args.K
+    print("scenario-steps/s: K · steps / time (plant + observer + metrics); single = simulate_observer per scenario")
+    print(f"{'problem':<26} {'K':>5} {'steps':>7} {'batch [s]':>9} {'batch st/s':>12} {'single st/s':>12} "
+          f"{'speed-up':>8} {'max dev':>10} {'conv':>5}")
+    bench("paper 001 (ZB, dt=1e-4)", paper001_case, K, 0.1 if args.quick else 1.0, 1e-4, 2 if args.quick else 4)
+    bench("paper 001 (ZB, dt=1e-3)", paper001_case, K, 0.5 if args.quick else 5.0, 1e-3, 2 if args.quick else 4)
+    bench("aircraft (NF, implicit)", aircraft_case, K, 0.02 if args.quick else 0.5, 1e-4, 2)
+
+
+if __name__ == "__main__":
+    main()
