@@ -43,7 +43,7 @@ from uio_ring import design_normal_form, design_zheng_bejarano, simulate_observe
 from uio_ring.sim.batch import Scenario, simulate_batch  # noqa: E402
 
 
-def paper001_case(K: int, rng: np.random.Generator):
+def paper001_case(K: int, rng: np.random.Generator):  # noqa: D103
     des = design_zheng_bejarano(paper001.system(), poles=[-10, -25, -50])
 
     def w(a):
