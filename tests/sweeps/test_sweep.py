@@ -106,7 +106,10 @@ def test_resumable_and_reproducible(tmp_path):
 def test_failing_runs_are_rows(tmp_path):
     f = _mismatch(tmp_path)
     f.write_text(f.read_text().replace("h_true: [", "h_true: [0.0105, "))  # dt = 0.001 does not divide it
-    t = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet"]).table
+    res = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet", "png"])
+    t = res.table
+    assert [p.name for p in res.plots] == ["mismatch_errors.png", "mismatch_convergence.png"]
+    assert all(p.stat().st_size > 1000 for p in res.plots)
     bad = t[t["h_true"] == 0.0105]
     assert len(t) == 10 and len(bad) == 2
     assert bad["error"].str.contains("dt=0.001 is not h/N").all() and bad["peak"].isna().all()
@@ -152,3 +155,10 @@ def test_cli_sweep(tmp_path, capsys):
     assert len(err) == 1 and str(bad) in err[0] and "chunks" in err[0]
     with pytest.raises(SpecError, match="no such file"):
         load_sweep(tmp_path / "missing.yaml")
+
+
+def test_local_processes_give_the_same_table(tmp_path):
+    f = _mismatch(tmp_path)
+    two = sweep(f, out=tmp_path / "two", workers=2, formats=["parquet"]).table
+    one = sweep(f, out=tmp_path / "one", workers=1, formats=["parquet"]).table
+    pd.testing.assert_frame_equal(one, two)
