@@ -49,8 +49,11 @@ def test_batch_equals_separate_runs_delay_observer(zb, K):
         assert res.metrics["final"][k] == pytest.approx(e[-1], rel=1e-9)
 
 
-@pytest.mark.parametrize("disc", ["implicit", "explicit", "euler"])
-def test_batch_equals_separate_runs_normal_form(nf, disc):
+@pytest.mark.parametrize("disc, scalar_below", [("implicit", 0), ("implicit", 100), ("explicit", 0), ("euler", 0)])
+def test_batch_equals_separate_runs_normal_form(nf, disc, scalar_below, monkeypatch):
+    import uio_ring.sim.batch as batch
+
+    monkeypatch.setattr(batch, "SCALAR_CHAINS_BELOW", scalar_below)  # vectorised / scalar chain solver
     u_sine = lambda t: np.array([0.01 * np.sin(np.asarray(t, float)), 0 * np.asarray(t, float)])  # noqa: E731
     sc = [Scenario(x0=np.array(paper000.X0) * f, w=lambda t, a=a: 0.008 + a * np.sin(2 * t),
                    u=u_sine if k % 2 else [0.0, 0.01], noise=0.001 if k == 2 else None, seed=3)

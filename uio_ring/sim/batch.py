@@ -224,6 +224,11 @@ def solve_chains(a: np.ndarray, coef: Sequence[float], s0: float, mu: int) -> tu
     return sig, sg
 
 
+#: Below this many scenarios, the implicit chain equations are solved row by row with the
+#: scalar solver (each vectorised Newton step costs a few µs of numpy overhead whatever K is).
+SCALAR_CHAINS_BELOW = 24  # measured crossover (bench: aircraft, K = 2 … 32)
+
+
 class _BatchInjection:
     """The stepper's injection tables applied to K rows at once."""
 
@@ -246,6 +251,8 @@ class _BatchInjection:
 
     def implicit(self, lin: np.ndarray, meas_next: np.ndarray) -> np.ndarray:
         inj = self.inj
+        if lin.shape[0] < SCALAR_CHAINS_BELOW:  # few rows: the scalar solver costs less per row
+            return np.stack([inj.implicit(lin[k], meas_next[k]) for k in range(lin.shape[0])])
         lvec = np.zeros_like(lin)
         for j, (s, m) in enumerate(zip(inj.starts, inj.mu, strict=True)):
             a = meas_next[:, j] - lin[:, s]
