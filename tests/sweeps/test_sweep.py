@@ -162,3 +162,27 @@ def test_local_processes_give_the_same_table(tmp_path):
     two = sweep(f, out=tmp_path / "two", workers=2, formats=["parquet"]).table
     one = sweep(f, out=tmp_path / "one", workers=1, formats=["parquet"]).table
     pd.testing.assert_frame_equal(one, two)
+
+
+def test_perturbations_families_and_design_options(tmp_path):
+    """Every kind of axis gives rows; a design that fails is a row per run with its error."""
+    f = tmp_path / "s.yaml"
+    f.write_text(f"""
+base: {EXAMPLES / "zheng2015.yaml"}
+name: kinds
+simulate: {{t_final: 0.6, dt: 0.001, settle: 0.4}}
+chunk_size: 4
+axes:
+  perturbation: [0, 0.05]
+  w_family: [base, sine, step, pwc, zero]
+  poles: [[-10, -25, -50], [-10, -10, -10, -10, -10]]
+""")
+    t = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet"]).table
+    assert len(t) == 20
+    ok, bad = t[t["poles"] == "[-10, -25, -50]"], t[t["poles"] != "[-10, -25, -50]"]
+    assert (ok["error"] == "").all() and bad["error"].str.startswith("DimensionError: poles has 5").all()
+    assert bad["peak"].isna().all()
+    assert np.isfinite(ok["peak"]).all()
+    nominal = ok[ok["perturbation"] == 0].set_index("w_family")["max_settled"]
+    perturbed = ok[ok["perturbation"] == 0.05].set_index("w_family")["max_settled"]
+    assert (perturbed > nominal).all()  # a perturbed plant leaves a bias the observer cannot see

@@ -308,9 +308,10 @@ def sweep_from_dict(data: Any, *, root: str | Path = ".", source: str | None = N
     spec = spec_from_dict(base)  # validates the base (errors name the place)
     from uio_ring.design.methods import METHODS
 
-    names = set(METHODS) if spec.design.method == "auto" else {spec.design.method}
-    options = sorted({o for m in names for o in METHODS[m].option_names})
     axes_data = data.get("axes") or {}
+    every = spec.design.method == "auto" or (isinstance(axes_data, dict) and "method" in axes_data)
+    names = set(METHODS) if every else {spec.design.method}
+    options = sorted({o for m in names for o in METHODS[m].option_names})
     if not isinstance(axes_data, dict):
         raise SpecError("expected a mapping axis name -> values", path="axes")
     axes = []
