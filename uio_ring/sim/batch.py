@@ -37,9 +37,9 @@ from uio_ring.errors import DimensionError, SimulationError
 from uio_ring.numeric.expint import LinearScan
 from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
 from uio_ring.numeric.history import sample_history
+from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import block_integrator
-from uio_ring.sim._progress import Progress, want_progress
 from uio_ring.sim.plant import SystemArrays
 from uio_ring.sim.signals import UniformNoise, as_noise, input_samples
 
@@ -235,7 +235,7 @@ class _BatchInjection:
     def __init__(self, inj: Any):
         self.inj = inj
         self.KlT = inj.Kl.T.copy()
-        self.starts = list(inj.starts)
+        self.RT = inj.R.T.copy()  # σ = meas + R ξ (R = sigma_xi − the chains' first states)
 
     def measured(self, Y: np.ndarray, U: np.ndarray) -> np.ndarray:
         out = Y @ self.inj.Sy.T
@@ -254,10 +254,11 @@ class _BatchInjection:
         if lin.shape[0] < SCALAR_CHAINS_BELOW:  # few rows: the scalar solver costs less per row
             return np.stack([inj.implicit(lin[k], meas_next[k]) for k in range(lin.shape[0])])
         lvec = np.zeros_like(lin)
+        base = meas_next + lin @ self.RT  # σ with no injection at all
         for j, (s, m) in enumerate(zip(inj.starts, inj.mu, strict=True)):
-            a = meas_next[:, j] - lin[:, s]
+            a = base[:, j]
             if j:
-                a = a - lvec @ inj.Kl_rows[j]
+                a = a + lvec @ inj.RK[j]  # earlier chains only (later entries are still 0)
             sig, sg = solve_chains(a, inj.coef[j], inj.s0[j], m)
             kap, ex = inj.kap[j], inj.exp[j]
             mag, sgn = np.abs(sig), np.sign(sig)
@@ -486,7 +487,7 @@ class _BatchObserver:
         if M == 0:
             return out
         PhiT, KlT, FT, dt = st.Phi.T, binj.KlT, st.model.F.T, st.dt
-        method, starts = binj.inj.method, binj.starts
+        method, RT = binj.inj.method, binj.RT
         j0 = int(steps[0])
         rows = slice(off + j0, off + j0 + M + 1)
         Meas = binj.measured(Yrows[rows], Urows[rows])  # Meas[q] at t_{j0 + q}
@@ -496,9 +497,9 @@ class _BatchObserver:
                 if method == "implicit":
                     xi = binj.implicit(xi @ PhiT + Fq[q], Meas[q + 1])
                 elif method == "explicit":
-                    xi = xi @ PhiT + Fq[q] + binj.l_of(Meas[q] - xi[:, starts]) @ KlT
+                    xi = xi @ PhiT + Fq[q] + binj.l_of(Meas[q] + xi @ RT) @ KlT
                 else:  # euler: g(t_j) over the step j → j + 1
-                    xi = xi + dt * (xi @ FT + G[g0 + q] + binj.l_of(Meas[q] - xi[:, starts]))
+                    xi = xi + dt * (xi @ FT + G[g0 + q] + binj.l_of(Meas[q] + xi @ RT))
                 out[q] = xi
         return out
 
