@@ -186,3 +186,8 @@ axes:
     nominal = ok[ok["perturbation"] == 0].set_index("w_family")["max_settled"]
     perturbed = ok[ok["perturbation"] == 0.05].set_index("w_family")["max_settled"]
     assert (perturbed > nominal).all()  # a perturbed plant leaves a bias the observer cannot see
+
+
+def test_the_example_sweep_file_loads():
+    sw = load_sweep(EXAMPLES / "sweeps" / "zheng2015_delay_sweep.yaml")
+    assert sw.grid_axes == ["h_true"] and len(sw.runs()) == 20 and len(sw.chunks()) == 5

@@ -1,6 +1,6 @@
 """``uio-ring sweep sweep.yaml`` — robustness sweeps (see :mod:`uio_ring.sweeps`).
 
-    $ uio-ring sweep examples/zheng2015_delay_sweep.yaml --out results/
+    $ uio-ring sweep examples/sweeps/zheng2015_delay_sweep.yaml --out results/
     $ uio-ring sweep sweep.yaml --scheduler tcp://10.0.0.5:8786     # an existing dask cluster
 """
 
