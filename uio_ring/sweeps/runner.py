@@ -151,7 +151,7 @@ def run_chunk(task: dict[str, Any]) -> list[dict[str, Any]]:
     runs = chunk.runs
     p0 = runs[0].params
     try:
-        key = json.dumps({"base": task["digest"], "d": {k: v for k, v in p0.items() if k == "method" or k in options}},
+        key = json.dumps({"base": task["fingerprint"], "d": {k: v for k, v in p0.items() if k == "method" or k in options}},
                          sort_keys=True, default=str)
         if key not in _DESIGNS:
             spec = _spec_for(base, p0, options)
@@ -285,7 +285,7 @@ def sweep(
     todo = [c for c in chunks if not (cdir / c.filename).exists()]
     axes = [a.name for a in sw.axes]
     common = {"axes": axes, "base": sw.base, "options": list(sw.design_options), "tol": sw.tol,
-              "diverge": sw.diverge, "digest": sw.digest()}
+              "diverge": sw.diverge, "fingerprint": sw.fingerprint()}
     tasks = [dict(common, chunk=c) for c in todo]
     show = sys.stderr.isatty() if progress is None else progress
     bar = _progress(sum(len(c.runs) for c in chunks), show)

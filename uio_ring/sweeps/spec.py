@@ -189,11 +189,11 @@ class Chunk:
 
     index: int
     runs: tuple[Run, ...]
-    digest: str
+    fingerprint: str
 
     @property
     def filename(self) -> str:
-        return f"chunk-{self.index:05d}-{self.digest}.parquet"
+        return f"chunk-{self.index:05d}-{self.fingerprint}.parquet"
 
 
 @dataclass(frozen=True)
@@ -236,7 +236,7 @@ class SweepSpec:
         groups: dict[str, list[Run]] = {}
         for r in self.runs():
             groups.setdefault(r.plant_key(), []).append(r)
-        base = self.digest()
+        base = self.fingerprint()
         out: list[Chunk] = []
         for runs in groups.values():
             for i in range(0, len(runs), self.chunk_size):
@@ -245,7 +245,7 @@ class SweepSpec:
                 out.append(Chunk(len(out), part, h))
         return out
 
-    def digest(self) -> str:
+    def fingerprint(self) -> str:
         """Hash of everything that changes the numbers (not the output settings)."""
         data = {"base": _plain(self.base), "axes": [(a.name, _plain(a.values), a.law, _plain(a.args))
                                                      for a in self.axes],
