@@ -191,3 +191,10 @@ axes:
 def test_the_example_sweep_file_loads():
     sw = load_sweep(EXAMPLES / "sweeps" / "zheng2015_delay_sweep.yaml")
     assert sw.grid_axes == ["h_true"] and len(sw.runs()) == 20 and len(sw.chunks()) == 5
+
+
+def test_cli_sweep_on_a_scheduler(tmp_path, capsys, cluster):
+    f = _mismatch(tmp_path)
+    assert main(["sweep", str(f), "--out", str(tmp_path / "o"), "--scheduler", cluster.scheduler_address,
+                 "--no-plot", "--quiet"]) == 0
+    assert "mismatch: 8 runs (4 chunks computed, 0 found done); 2 converged" in capsys.readouterr().out
