@@ -259,8 +259,17 @@ class _BatchInjection:
             a = base[:, j]
             if j:
                 a = a + lvec @ inj.RK[j]  # earlier chains only (later entries are still 0)
-            sig, sg = solve_chains(a, inj.coef[j], inj.s0[j], m)
             kap, ex = inj.kap[j], inj.exp[j]
+            if m == 2:  # super-twisting: the stepper's closed form, s = |σ|^½ from s² + c1 s = |a| − s0
+                c1, s0 = inj.coef[j][0], inj.s0[j]
+                excess = np.abs(a) - s0
+                sliding = excess <= 0.0
+                sr = np.where(sliding, 0.0, (-c1 + np.sqrt(c1 * c1 + 4.0 * np.maximum(excess, 0.0))) / 2.0)
+                sgn = np.sign(a)
+                lvec[:, s] = kap[0] * sr * sgn
+                lvec[:, s + 1] = kap[1] * np.where(sliding, a / s0, sgn)
+                continue
+            sig, sg = solve_chains(a, inj.coef[j], inj.s0[j], m)
             mag, sgn = np.abs(sig), np.sign(sig)
             for k in range(m - 1):
                 lvec[:, s + k] = kap[k] * mag ** ex[k] * sgn
