@@ -128,17 +128,19 @@ class BatchResult:
 def _bsum(M: np.ndarray, S: np.ndarray, j0: int, j1: int, N: int, offset: int) -> np.ndarray:
     """``Σ_i M_i s(t_j − i h)`` for ``j = j0 … j1`` and every scenario: ``(j1 − j0 + 1, K, rows)``.
 
-    Time-major: ``S`` has shape ``(rows_S, K, cols)`` with ``S[offset + j] = s(t_j)``, so
-    each delay is one matrix product over all samples and scenarios.
+    Time-major: ``S`` has shape ``(rows_S, K, cols)`` with ``S[offset + j] = s(t_j)``.  The
+    delayed windows are laid side by side and multiplied by the stacked ``M_iᵀ`` in one
+    product (one pass over the output instead of one per delay).
     Precondition: every index is inside S, S C-contiguous (not checked).
     """
     L, K = j1 - j0 + 1, S.shape[1]
-    out = np.zeros((L * K, M.shape[1]))
-    for i in range(M.shape[0]):
-        if np.any(M[i]):
-            a = offset + j0 - i * N
-            out += S[a : a + L].reshape(L * K, -1) @ M[i].T
-    return out.reshape(L, K, M.shape[1])
+    idx = [i for i in range(M.shape[0]) if np.any(M[i])]
+    if not idx:
+        return np.zeros((L, K, M.shape[1]))
+    wins = [S[offset + j0 - i * N : offset + j0 - i * N + L] for i in idx]
+    stacked = wins[0] if len(wins) == 1 else np.concatenate(wins, axis=2)
+    Mst = np.concatenate([M[i].T for i in idx], axis=0)
+    return (stacked.reshape(L * K, -1) @ Mst).reshape(L, K, M.shape[1])
 
 
 def _scan_steps(Phi: np.ndarray, x0: np.ndarray, g: np.ndarray) -> np.ndarray:
