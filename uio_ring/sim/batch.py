@@ -465,16 +465,16 @@ class _BatchObserver:
             return Fq.reshape(0, K, nz)
         g0 = int(steps[0]) - (jlo - 3)  # G index of g(t_j) for the first step
 
-        def part(shift: int, Wm: np.ndarray) -> np.ndarray:
-            return G[g0 + shift : g0 + shift + M].reshape(M * K, -1) @ Wm.T
+        def stencil(shifts: tuple[int, ...], W: np.ndarray) -> np.ndarray:  # one product for all nodes
+            wins = np.concatenate([G[g0 + sh : g0 + sh + M] for sh in shifts], axis=2)
+            return wins.reshape(M * K, -1) @ np.concatenate([Wm.T for Wm in W], axis=0)
 
         Wf = st.W_first
         if st.cubic:
-            W = st.W
-            Fq = part(-2, W[0]) + part(-1, W[1]) + part(0, W[2]) + part(1, W[3])
+            Fq = stencil((-2, -1, 0, 1), st.W)
             end = st.guard_blocks * N
         else:
-            Fq = part(0, Wf[0]) + part(1, Wf[1])
+            Fq = stencil((0, 1), Wf)
             end = 0
         Fq = Fq.reshape(M, K, nz)
         if end and steps[0] < end:
