@@ -286,7 +286,8 @@ def sweep_from_dict(data: Any, *, root: str | Path = ".", source: str | None = N
         raise SpecError("a sweep file is a mapping with 'base' and 'axes'")
     unknown = sorted(set(map(str, data)) - _TOP)
     if unknown:
-        raise SpecError(f"unknown key(s) {', '.join(unknown)}; expected some of {', '.join(sorted(_TOP))}")
+        hint = " (this is a spec file; a sweep file names it: 'base: spec.yaml')" if "system" in unknown else ""
+        raise SpecError(f"unknown key(s) {', '.join(unknown)}; expected some of {', '.join(sorted(_TOP))}{hint}")
     base = data.get("base")
     if isinstance(base, str):
         bp = Path(root) / base
