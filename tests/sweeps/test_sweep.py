@@ -198,3 +198,15 @@ def test_cli_sweep_on_a_scheduler(tmp_path, capsys, cluster):
     assert main(["sweep", str(f), "--out", str(tmp_path / "o"), "--scheduler", cluster.scheduler_address,
                  "--no-plot", "--quiet"]) == 0
     assert "mismatch: 8 runs (4 chunks computed, 0 found done); 2 converged" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("top, match", [
+    ("name: ../evil\n", r"name: '../evil' is not a safe file name"),
+    ("output: {directory: ../elsewhere}\n", r"output.directory: '../elsewhere': expected a folder inside"),
+    ("output: {directory: /tmp/x}\n", r"output.directory: '/tmp/x'"),
+])
+def test_files_stay_in_their_folder(tmp_path, top, match):
+    f = tmp_path / "s.yaml"
+    f.write_text(f"base: {EXAMPLES / 'zheng2015.yaml'}\n{top}")
+    with pytest.raises(SpecError, match=match):
+        load_sweep(f)

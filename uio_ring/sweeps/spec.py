@@ -260,18 +260,14 @@ class SweepSpec:
 
 def load_sweep(path: str | Path) -> SweepSpec:
     """Read and validate a sweep file (errors name the file and the place in it)."""
-    from uio_ring.spec.yaml_io import load_yaml_text
+    from uio_ring.spec.files import read_text_limited, sanitise_name
+    from uio_ring.spec.yaml_io import MAX_BYTES, load_yaml_text
 
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise SpecError(f"no such file: {p}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SpecError(f"cannot read {p}: {exc}") from None
+    text = read_text_limited(p, max_bytes=MAX_BYTES, what="sweep")  # regular files only, bounded
     try:
         data = load_yaml_text(text)
-        return sweep_from_dict(data, root=p.parent, source=str(p), default_name=p.stem)
+        return sweep_from_dict(data, root=p.parent, source=str(p), default_name=sanitise_name(p.stem))
     except SpecError as exc:
         raise SpecError(f"{p}: {exc}") from None
 
@@ -279,8 +275,9 @@ def load_sweep(path: str | Path) -> SweepSpec:
 def sweep_from_dict(data: Any, *, root: str | Path = ".", source: str | None = None,
                     default_name: str = "sweep") -> SweepSpec:
     """Validate a sweep given as plain data; ``base`` is a spec file (relative to ``root``) or a dict."""
+    from uio_ring.spec.files import read_text_limited, safe_name
     from uio_ring.spec.loader import spec_from_dict
-    from uio_ring.spec.yaml_io import load_yaml_text
+    from uio_ring.spec.yaml_io import MAX_BYTES, load_yaml_text
 
     if not isinstance(data, dict):
         raise SpecError("a sweep file is a mapping with 'base' and 'axes'")
@@ -292,9 +289,9 @@ def sweep_from_dict(data: Any, *, root: str | Path = ".", source: str | None = N
     if isinstance(base, str):
         bp = Path(root) / base
         try:
-            base = load_yaml_text(bp.read_text(encoding="utf-8"))
-        except OSError:
-            raise SpecError(f"cannot read the base spec {bp}", path="base") from None
+            base = load_yaml_text(read_text_limited(bp, max_bytes=MAX_BYTES, what="base spec"))
+        except SpecError as exc:
+            raise SpecError(f"the base spec {bp}: {exc}", path="base") from None
     if not isinstance(base, dict):
         raise SpecError("expected a spec file name or a spec mapping", path="base")
     base = dict(base)
@@ -335,6 +332,15 @@ def sweep_from_dict(data: Any, *, root: str | Path = ".", source: str | None = N
     out = data.get("output") or {}
     if not isinstance(out, dict) or set(map(str, out)) - {"directory", "formats"}:
         raise SpecError("expected {directory: …, formats: […]}", path="output")
+    directory = out.get("directory")
+    if directory is not None:
+        d = Path(str(directory))
+        if not str(directory).strip() or d.is_absolute() or ".." in d.parts:
+            raise SpecError(f"{directory!r}: expected a folder inside the sweep file's folder (no absolute path, "
+                            "no '..'; use --out to write elsewhere)", path="output.directory")
+    name = data.get("name")
+    if name is not None:
+        safe_name(str(name), "name")
     formats = tuple(out.get("formats") or ("parquet", "png"))
     bad = [f for f in formats if f not in ("parquet", "csv", "png")]
     if bad:
@@ -344,7 +350,7 @@ def sweep_from_dict(data: Any, *, root: str | Path = ".", source: str | None = N
     if not (tol > 0 and div > 0):
         raise SpecError("tol and diverge must be positive", path="metrics")
     return SweepSpec(
-        base=base, axes=tuple(axes), name=str(data.get("name") or default_name), seed=integer("seed", 0, 0),
+        base=base, axes=tuple(axes), name=str(name or default_name), seed=integer("seed", 0, 0),
         samples=integer("samples", 1, 1), chunk_size=integer("chunk_size", 16, 1), tol=tol, diverge=div,
         directory=None if out.get("directory") is None else str(out["directory"]), formats=formats,
         source=source, design_options=tuple(options),
