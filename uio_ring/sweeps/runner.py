@@ -207,11 +207,19 @@ class SweepResult:
                 f"{self.path}>")
 
 
+def _replace(path: Path, write: Callable[[Path], Any]) -> None:
+    """Write through a temporary file and rename: ``path`` is complete or unchanged."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
 def _write_chunk(rows: list[dict[str, Any]], path: Path) -> None:
     pd = require("pandas", extra="sweep")
-    tmp = path.with_suffix(".tmp")
-    pd.DataFrame(rows).to_parquet(tmp, index=False)
-    os.replace(tmp, path)  # a chunk file is complete or absent
+    _replace(path, lambda tmp: pd.DataFrame(rows).to_parquet(tmp, index=False))  # complete or absent
 
 
 def _progress(total_runs: int, show: bool) -> Callable[[int], None]:
@@ -307,11 +315,11 @@ def sweep(
     table = table.sort_values("run", kind="stable").reset_index(drop=True)
     fmts = tuple(formats) if formats is not None else sw.formats
     path = out / f"{sw.name}.parquet"
-    table.to_parquet(path, index=False)
+    _replace(path, lambda tmp: table.to_parquet(tmp, index=False))
     files = [path]
     if "csv" in fmts:
         files.append(out / f"{sw.name}.csv")
-        table.to_csv(files[-1], index=False)
+        _replace(files[-1], lambda tmp: table.to_csv(tmp, index=False))
     plots: tuple[Path, ...] = ()
     if "png" in fmts:
         from uio_ring.sweeps.plots import summary_plots
