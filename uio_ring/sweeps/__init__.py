@@ -5,7 +5,7 @@
 run each chunk as one batched simulation (:func:`uio_ring.sim.batch.simulate_batch`) in
 local processes or on a ``dask.distributed`` cluster, and write a tidy table (Parquet,
 CSV on request; one row per run with its parameters, seed and metrics) and summary
-plots.  Needs the extra ``sweep`` (pandas, pyarrow; dask for ``--scheduler``).
+plots.  Needs the extra ``sweep`` (pandas, pyarrow, dask.distributed for ``--scheduler``).
 """
 
 from uio_ring.sweeps.runner import SweepResult, run_chunk, sweep
