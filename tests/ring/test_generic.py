@@ -10,7 +10,7 @@ from __future__ import annotations
 import random
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from uio_ring.ring import (
@@ -101,6 +101,7 @@ def test_singular_square_matrix_takes_the_elimination_path():
 
 @settings(max_examples=20, deadline=None)
 @given(seed=st.integers(0, 10**6), n=st.integers(6, 9), m=st.integers(0, 3))
+@example(seed=125, n=6, m=0)  # det V vanishes at a first point and W has no rows (was an IndexError)
 def test_generic_solve_recovers_the_unique_solution(seed, n, m):
     rng = random.Random(seed)
     V = random_matrix(rng, n, 1)

@@ -236,6 +236,8 @@ def _solve_by_points_avoiding_roots(
     vc: list[flint.fmpq_mat], wc: list[flint.fmpq_mat], n: int, m: int, det: flint.fmpq_poly, ybound: int
 ) -> dn.Rows:
     """Like :func:`generic_solve_left`, sampling only points where V(x) is nonsingular."""
+    if not m:  # no rows to solve for (W has none)
+        return []
     xs: list[int] = []
     ys: list[list[flint.fmpq]] = []
     for x in ev.points():
