@@ -599,10 +599,7 @@ class ObserverStepper:
                 xi = xi + dt * (F @ xi + G[k + 1] + inj.l_of(inj.sigma(Meas[k - 1], xi)))
             Xi[k] = xi
             if k % 1024 == 0:
-                if not np.all(np.isfinite(xi)):
-                    raise SimulationError(f"the observer diverged near t = {k * dt:g} (dt = {dt:g})")
-                if progress is not None:
-                    progress.update(k)
+                self._checkpoint(k, xi, progress)
         return self._outputs(Xi + D, Xi, T)
 
     def _run_phi(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi: np.ndarray, phi: Any,
@@ -629,11 +626,15 @@ class ObserverStepper:
             n0 = Pm @ f(k * dt, X0 @ (xi + D[k]))
             Xi[k] = xi
             if k % 1024 == 0:
-                if not np.all(np.isfinite(xi)):
-                    raise SimulationError(f"the observer diverged near t = {k * dt:g} (dt = {dt:g})")
-                if progress is not None:
-                    progress.update(k)
+                self._checkpoint(k, xi, progress)
         return self._outputs(Xi + D, Xi, T)
+
+    def _checkpoint(self, k: int, xi: np.ndarray, progress: Any) -> None:
+        """Every 1024 steps of a loop: refuse a diverged state, report progress."""
+        if not np.all(np.isfinite(xi)):
+            raise SimulationError(f"the observer diverged near t = {k * self.dt:g} (dt = {self.dt:g})")
+        if progress is not None:
+            progress.update(k)
 
     def noise_gain(self, horizon: float | None = None) -> np.ndarray:
         """ℓ¹ norms of the discrete impulse responses, output j → estimate i: shape ``(n_x, n_y)``.

@@ -186,23 +186,26 @@ def _program(node: Node) -> list[Node]:
     return out
 
 
-def _compile(node: Node) -> Callable[[Any], Any]:
+def _evaluator(node: Node) -> Callable[[Any, dict[str, Any], Any], Any]:
+    """The postfix program of ``node`` (no recursion) as ``run(t, env, like)``: ``t`` the time,
+    ``env`` the values of state names, numbers broadcast like ``like`` (or left scalar)."""
     import numpy as np
 
     program = _program(node)
     binary = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power}
     functions = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None)) for name in FUNCTIONS}
 
-    def run(t: Any) -> Any:
-        t = np.asarray(t, dtype=float)
+    def run(t: Any, env: dict[str, Any], like: Any) -> Any:
         stack: list[Any] = []
         with np.errstate(all="ignore"):  # non-finite values are caught where the simulation is checked
             for op in program:
                 kind = op[0]
                 if kind == "num":
-                    stack.append(np.full_like(t, op[1], dtype=float))
+                    stack.append(op[1] if like is None else np.full_like(like, op[1], dtype=float))
                 elif kind == "t":
                     stack.append(t)
+                elif kind == "var":
+                    stack.append(env[op[1]])
                 elif kind == "neg":
                     stack.append(-stack.pop())
                 elif kind == "call":
@@ -216,35 +219,25 @@ def _compile(node: Node) -> Callable[[Any], Any]:
     return run
 
 
-def _compile_env(node: Node) -> Callable[[dict[str, Any]], Any]:
-    """Like :func:`_compile`, for a function of an environment ``{"t": …, name: …}`` (the
-    same postfix program, without recursion)."""
+def _compile(node: Node) -> Callable[[Any], Any]:
+    """A function of t (arrays broadcast)."""
     import numpy as np
 
-    program = _program(node)
-    binary = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power}
-    functions = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None)) for name in FUNCTIONS}
+    evaluate = _evaluator(node)
+
+    def run(t: Any) -> Any:
+        t = np.asarray(t, dtype=float)
+        return evaluate(t, {}, t)
+
+    return run
+
+
+def _compile_env(node: Node) -> Callable[[dict[str, Any]], Any]:
+    """Like :func:`_compile`, for a function of an environment ``{"t": …, name: …}``."""
+    evaluate = _evaluator(node)
 
     def run(env: dict[str, Any]) -> Any:
-        stack: list[Any] = []
-        with np.errstate(all="ignore"):  # non-finite values are caught where the simulation is checked
-            for op in program:
-                kind = op[0]
-                if kind == "num":
-                    stack.append(op[1])
-                elif kind == "t":
-                    stack.append(env["t"])
-                elif kind == "var":
-                    stack.append(env[op[1]])
-                elif kind == "neg":
-                    stack.append(-stack.pop())
-                elif kind == "call":
-                    x = stack.pop()
-                    stack.append(np.where(x >= 0, 1.0, 0.0) if op[1] == "step" else functions[op[1]](x))
-                else:
-                    b = stack.pop()
-                    stack.append(binary[kind](stack.pop(), b))
-        return stack[0]
+        return evaluate(env["t"], env, None)
 
     return run
 
