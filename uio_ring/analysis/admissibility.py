@@ -21,13 +21,13 @@ W[0] maps v = (0, 1) in 𝒮_1 to W[0]·v = (1, 0), which is not in 𝒮_1 = ker
 
 from __future__ import annotations
 
-import html
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
 from uio_ring.analysis import _subspaces as sp
+from uio_ring.analysis.report import Report
 
 __all__ = ["AdmissibilityReport", "admissibility"]
 
@@ -37,13 +37,13 @@ def _fmt(v: tuple[Fraction, ...]) -> str:
 
 
 @dataclass(frozen=True)
-class AdmissibilityReport:
+class AdmissibilityReport(Report):
     """Verdict of :func:`admissibility`.
 
     Attributes
     ----------
     holds
-        ``W_k 𝒮_i ⊂ 𝒮_i`` for every i and k (``ok`` is an alias).
+        ``W_k 𝒮_i ⊂ 𝒮_i`` for every i and k.
     reason
         Empty when it holds; otherwise which ``W_k`` maps which vector out of which 𝒮_i.
     index
@@ -65,20 +65,8 @@ class AdmissibilityReport:
     dimensions: tuple[int, ...] = ()
 
     @property
-    def ok(self) -> bool:
-        return self.holds
-
-    @property
     def name(self) -> str:
         return "admissibility of (A, C, W) (Grip & Saberi 2010)"
-
-    def __str__(self) -> str:
-        head = f"{self.name}: {'holds' if self.holds else 'FAILS'}"
-        return head if self.holds else f"{head}\n  reason: {self.reason}"
-
-    def _repr_html_(self) -> str:
-        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
-        return f"<b>{html.escape(self.name)}</b>: {'holds' if self.holds else 'FAILS'}{reason}"
 
     def to_dict(self) -> dict[str, Any]:
         return {

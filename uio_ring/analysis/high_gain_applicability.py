@@ -15,11 +15,11 @@ the unknown input w enters the system (B ≠ 0 or D ≠ 0); the high-gain observ
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass
 from typing import Any
 
 from uio_ring.analysis.canonical_form import observability_indices_of
+from uio_ring.analysis.report import Report
 from uio_ring.ring import constant as qc
 from uio_ring.systems.delay_system import DelaySystem
 
@@ -27,17 +27,13 @@ __all__ = ["HighGainApplicability", "high_gain_applicable"]
 
 
 @dataclass(frozen=True)
-class HighGainApplicability:
-    """Verdict of :func:`high_gain_applicable` (``holds``/``ok``, ``reason``, ``summary``,
+class HighGainApplicability(Report):
+    """Verdict of :func:`high_gain_applicable` (``holds``, ``reason``, ``summary``,
     and the observability indices of (A, C) when they were computed)."""
 
     holds: bool
     reason: str
     observability_indices: tuple[int, ...] = ()
-
-    @property
-    def ok(self) -> bool:
-        return self.holds
 
     @property
     def name(self) -> str:
@@ -49,13 +45,8 @@ class HighGainApplicability:
             return f"high-gain: skipped — {self.reason}"
         return f"high-gain: applies — (A, C) observable with indices {self.observability_indices}"
 
-    def __str__(self) -> str:
-        head = f"{self.name}: {'holds' if self.holds else 'FAILS'}"
-        return head if self.holds else f"{head}\n  reason: {self.reason}"
-
-    def _repr_html_(self) -> str:
-        reason = "" if self.holds else f"<br>reason: {html.escape(self.reason)}"
-        return f"<b>{html.escape(self.name)}</b>: {'holds' if self.holds else 'FAILS'}{reason}"
+    def _detail_lines(self) -> list[str]:
+        return [f"observability indices of (A, C): {self.observability_indices}"] if self.holds else []
 
     def to_dict(self) -> dict[str, Any]:
         return {"method": "high-gain", "holds": self.holds, "reason": self.reason,
