@@ -243,7 +243,7 @@ def _gain_pairs(gains: Any, levels: int) -> tuple[tuple[Fraction, Fraction], ...
     for k, g in enumerate(rows):
         pair = tuple(exact_fraction(x, f"gains[{k}][{i}]") for i, x in enumerate(g))
         if len(pair) != 2 or not all(x > 0 for x in pair):
-            raise DomainError(f"gains[{k}] = {list(g)}: expected two positive values [λ, α]")
+            raise DomainError(f"gains[{k}] = [{', '.join(str(x) for x in g)}]: expected two positive values [λ, α]")
         out.append((pair[0], pair[1]))
     return tuple(out)
 
