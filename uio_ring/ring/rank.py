@@ -1,15 +1,6 @@
-"""Rank and determinant over Q[δ] by evaluation — never by echelon over Q(δ).
-
-Rank
-    ``rank M(x) ≤ rank M`` for every rational x, and a nonzero k×k minor (degree
-    ≤ b_k, see :func:`~uio_ring.ring._evaluation.minor_degree_bound`) vanishes at
-    no more than b_k points.  So if ``b_{r+1} + 1`` distinct points all give rank
-    ≤ r while some point gives r, the rank is exactly r.  Evaluation stops at
-    once when the rank reaches min(m, n).
-Determinant
-    ``det M(x)`` at ``b_n + 1`` points, then interpolation.
-
-Cost: O(points · n³) rational operations in C.
+"""Rank and determinant over Q[δ] by evaluation — never by echelon over Q(δ): the public
+façade of :mod:`uio_ring.ring._predicates`, whose docstring states the algorithm and why
+the evaluation points prove the result.
 
 >>> from uio_ring.ring.matrix import PolyMatrix
 >>> M = PolyMatrix("[[d, d**2], [1, d]]")
