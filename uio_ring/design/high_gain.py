@@ -45,6 +45,7 @@ from uio_ring.design.base import ObserverDesign, matrix_to_data
 from uio_ring.errors import DimensionError, DomainError, NotObservableError
 from uio_ring.ring import constant as qc
 from uio_ring.ring.certificate import Certificate
+from uio_ring.ring.charpoly import charpoly
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import Poly, exact_fraction
 from uio_ring.systems.delay_system import DelaySystem
@@ -173,9 +174,7 @@ class HighGainDesign(ObserverDesign):
         if not self.n_f:
             return True
         F = self.filter_loop()
-        s = Poly.gen("s")
-        charpoly = (PolyMatrix.identity(self.n_f, var="s") * s - PolyMatrix(F.coefficient_lists()[0], var="s")).det()
-        return is_hurwitz_polynomial(charpoly)
+        return is_hurwitz_polynomial(charpoly(F))
 
     def observer_matrices(self) -> dict[str, PolyMatrix]:
         """``F, G_y, G_u, X, initial`` of the implementation (22) with state ``ξ = [z̃; x̂]``."""

@@ -26,7 +26,7 @@ from __future__ import annotations
 from typing import Any
 
 from uio_ring.ring.certificate import Certificate, Check
-from uio_ring.ring.errors import DomainError
+from uio_ring.ring.charpoly import charpoly
 from uio_ring.ring.inverse import is_left_unimodular, is_unimodular
 from uio_ring.ring.kernel import left_kernel
 from uio_ring.ring.matrix import Poly, PolyMatrix
@@ -36,25 +36,6 @@ __all__ = ["delay_uio_certificate", "charpoly"]
 
 _Z = PolyMatrix.zeros
 _I = PolyMatrix.identity
-
-
-def charpoly(M: PolyMatrix, var: str = "s") -> Poly:
-    """``det(s I − M)`` of a constant matrix, exactly, as a polynomial in ``var``.
-
-    >>> charpoly(PolyMatrix("[[0, 1], [-2, -3]]"))
-    s**2 + 3*s + 2
-    """
-    if M.degree() > 0:
-        raise DomainError("charpoly needs a constant matrix")
-    n = M.rows
-    if n == 0:
-        return Poly(1, var)
-    coeffs = M.coefficient_lists()[0]
-    s = Poly.gen(var)
-    rows = [[(s if i == j else Poly(0, var)) - Poly(coeffs[i][j], var) for j in range(n)] for i in range(n)]
-    return PolyMatrix(rows, var=var).det()
-
-
 
 
 def delay_uio_certificate(design: Any) -> Certificate:

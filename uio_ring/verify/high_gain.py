@@ -30,20 +30,11 @@ from fractions import Fraction
 from typing import Any
 
 from uio_ring.ring.certificate import Certificate, Check
+from uio_ring.ring.charpoly import charpoly
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.verify.checks import residual_check
 
 __all__ = ["high_gain_certificate"]
-
-
-def _charpoly(M: PolyMatrix) -> Any:
-    """``det(sI − M)`` of a constant matrix, as a :class:`~uio_ring.ring.poly.Poly` in s."""
-    from uio_ring.ring.poly import Poly
-
-    n = M.rows
-    sI = PolyMatrix.identity(n, var="s") * Poly.gen("s")
-    Ms = PolyMatrix(M.coefficient_lists()[0], var="s") if n else PolyMatrix.zeros(0, 0, "s")
-    return (sI - Ms).det() if n else Poly(1, "s")
 
 
 def _chain_polynomial(coefficients: Any) -> Any:
@@ -118,7 +109,7 @@ def high_gain_certificate(design: Any) -> Certificate:
     add(residual_check("error matrix in canonical coordinates", "Γ_x⁻¹ (A_e − K C_e) Γ_x = "
                        "blkdiag(A_{q_i} − K̃_i C_{q_i})",
                        lambda: {"difference": qc.to_polymatrix(Gxi * E * Gx - target)}))
-    got = _charpoly(d.error_matrix())
+    got = charpoly(d.error_matrix())
     want = d.characteristic_polynomial()
     add(Check("spectrum of A_e − K C_e", got == want, None if got == want else f"{got} ≠ {want}",
               "det(sI − (A_e − K C_e)) = Π_i ε^{−q_i} p_i(ε s) (the requested poles divided by ε)"))

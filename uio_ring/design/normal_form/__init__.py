@@ -27,7 +27,9 @@ It converges in finite time if ``|w_i| ≤ L_i`` and the gains satisfy (18).
 
 Modules, in the order of the algorithm: :mod:`.model` (the feed-through
 reduction and the augmentation), :mod:`.step1` (Γ, Ξ, chain lengths),
-:mod:`.step2` (``O_R``, ``t_{e_j}``), :mod:`.step3` (β), :mod:`.step4` (``T`` and
+:mod:`uio_ring.analysis.chain_basis` (Step 2: ``O_R``, ``t_{e_j}``),
+:mod:`uio_ring.analysis.chain_couplings` (Step 3: β; ``T`` of (54), shared with the special
+coordinate basis), :mod:`.step4` (``T`` and
 the normal form), :mod:`.gains` (RED gains, (18)), :mod:`.design` (the design
 object, with the table paper ↔ package), :mod:`.algorithm` (``design_normal_form``).
 

@@ -16,6 +16,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from uio_ring.analysis.chain_basis import chain_basis
+from uio_ring.analysis.chain_couplings import coupling_coefficients
 from uio_ring.analysis.normal_form_applicability import (
     NormalFormApplicability,
     normal_form_applicable,
@@ -25,8 +27,6 @@ from uio_ring.design.normal_form.gains import input_bounds as read_bounds
 from uio_ring.design.normal_form.gains import model_input_bounds, observer_gains
 from uio_ring.design.normal_form.model import reduced_model
 from uio_ring.design.normal_form.step1 import output_chains
-from uio_ring.design.normal_form.step2 import chain_basis
-from uio_ring.design.normal_form.step3 import coupling_coefficients
 from uio_ring.design.normal_form.step4 import normal_form
 from uio_ring.errors import NotObservableError
 from uio_ring.ring.matrix import PolyMatrix

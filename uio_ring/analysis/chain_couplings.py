@@ -14,7 +14,7 @@ substitution (:meth:`~uio_ring.ring.QMatrix.solve_by_peeling`), with elimination
 a fallback.
 
 >>> from uio_ring.ring import QMatrix
->>> from uio_ring.design.normal_form.step2 import chain_basis
+>>> from uio_ring.analysis.chain_basis import chain_basis
 >>> b = chain_basis(QMatrix([[0, 1, 0], [0, 0, 1], [1, 2, 3]]), QMatrix([[1, 0, 0], [0, 0, 1]]), (2, 1))
 >>> c = coupling_coefficients(b)
 >>> c.beta, [s.H.det() for s in c.systems]
@@ -26,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from uio_ring.design.normal_form.step2 import ChainBasis
+from uio_ring.analysis.chain_basis import ChainBasis
 from uio_ring.ring.qmatrix import QMatrix
 
 __all__ = ["CouplingSystem", "Couplings", "coupling_coefficients"]
@@ -96,3 +96,39 @@ def _system(basis: ChainBasis, j: int, later: list[int]) -> tuple[QMatrix, QMatr
             )
         w_blocks.append(P[j][starts[r] : starts[r] + 1, :].take_cols(range(mu[j] - 1, mu[r] - 1, -1)))
     return QMatrix.vstack(*H_rows), QMatrix.hstack(*w_blocks).T
+
+
+def chain_transformation(basis: ChainBasis, couplings: Couplings) -> QMatrix:
+    """``T`` of (54): block ``j``, ``i = 0 … μ_j − 1``::
+
+        t_{e_j − i} = Ǎ^i t_{e_j} − Σ_{r>j} Σ_{q=1}^{i} β_{j,r,μ_j−q} Ǎ^{i−q} t_{e_r}
+
+    i.e. per block one matrix product ``X_j = P_j − Σ_r P_r Β_{j,r}`` with the powers
+    ``P_s = [t_{e_s}, Ǎ t_{e_s}, …]`` of Step 2 and the upper triangular Toeplitz
+    matrices ``Β_{j,r}[i−q, i] = β_{j,r,μ_j−q}``; column ``i`` of ``X_j`` is ``t_{e_j − i}``.
+    Returned in the original coordinates (``T = O_R⁻¹ T̃``).
+
+    >>> from uio_ring.analysis.chain_basis import chain_basis
+    >>> b = chain_basis(QMatrix([[0, 1, 0], [0, 0, 1], [1, 2, 3]]), QMatrix([[1, 0, 0], [0, 0, 1]]), (2, 1))
+    >>> chain_transformation(b, coupling_coefficients(b))
+    QMatrix([[1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    """
+    mu, P = basis.mu, basis.powers
+    blocks = []
+    for j in range(len(mu)):
+        X = P[j][:, : mu[j]]
+        later = [r for r in range(j + 1, len(mu)) if any(couplings.beta.get((j + 1, r + 1, l)) for l in range(mu[j]))]
+        if later:
+            X = X - QMatrix.hstack(*[P[r][:, : mu[j]] for r in later]) @ QMatrix.vstack(
+                *[_toeplitz(couplings.beta, j, r, mu[j]) for r in later]
+            )
+        blocks.append(X.take_cols(range(mu[j] - 1, -1, -1)))  # column e_j − i holds t_{e_j − i}
+    return basis.O_R.solve(QMatrix.hstack(*blocks, rows=basis.O_R.rows), name="O_R")  # back from z = O_R x
+
+
+def _toeplitz(beta: dict[tuple[int, int, int], Fraction], j: int, r: int, size: int) -> QMatrix:
+    """``Β_{j,r}[i − q, i] = β_{j,r,μ_j−q}`` for ``1 ≤ q ≤ i < μ_j`` (0-based j, r; ``size = μ_j``)."""
+    zero = Fraction(0)
+    return QMatrix(
+        [[beta.get((j + 1, r + 1, size - (i - k)), zero) if i > k else zero for i in range(size)] for k in range(size)]
+    )
