@@ -12,10 +12,10 @@ import pytest
 
 from design import paper000
 from uio_ring import DelaySystem, normal_form_applicable
-from uio_ring.design.normal_form.model import feedthrough_split, reduced_model
-from uio_ring.design.normal_form.step1 import output_chains
 from uio_ring.analysis.chain_basis import chain_basis
 from uio_ring.analysis.chain_couplings import coupling_coefficients
+from uio_ring.design.normal_form.model import feedthrough_split, reduced_model
+from uio_ring.design.normal_form.step1 import output_chains
 from uio_ring.design.normal_form.step4 import normal_form
 from uio_ring.ring import QMatrix
 
