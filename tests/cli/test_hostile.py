@@ -12,6 +12,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -364,8 +365,8 @@ def small_specs(draw):
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(text=small_specs(), command=st.sampled_from(["check", "design", "simulate"]))
 def test_random_specs_inside_the_limits_finish(tmp_path, capsys, text, command):
-    folder = tmp_path / f"r{abs(hash(text)) % 10**8}{command}"
-    folder.mkdir()
+    # a fresh folder per call: hypothesis may replay the same example within one test run
+    folder = Path(tempfile.mkdtemp(prefix=f"r{command}", dir=tmp_path))
     (folder / "spec.yaml").write_text(text, encoding="utf-8")
     argv = [command, str(folder / "spec.yaml")]
     if command != "check":

@@ -366,11 +366,16 @@ def is_strongly_observable(sys: DelaySystem, *, cross_check: bool = True) -> Str
     elif not left_inv:
         reason = why
     else:
-        reason = f"invariant zero(s): roots of {z.polynomial} ≈ {{{', '.join(_fmt(r) for r in z.roots)}}}"
+        reason = f"invariant zero(s): roots of {z.polynomial} ≈ {{{', '.join(format_root(r) for r in z.roots)}}}"
     return StrongObservabilityReport("strongly observable", holds, reason, sys.n_x, rank_BD, z, left_inv, dimV)
 
 
-def _fmt(r: complex) -> str:
+def format_root(r: complex) -> str:
+    """A root for display: ``-10``, ``-0.5+0.866025j``.
+
+    >>> format_root(complex(-10, 0)), format_root(complex(-0.5, 3 ** 0.5 / 2))
+    ('-10', '-0.5+0.866025j')
+    """
     if abs(r.imag) < 1e-12 * max(1.0, abs(r.real)):
         return f"{r.real:.6g}"
     return f"{r.real:.6g}{r.imag:+.6g}j"
@@ -400,7 +405,7 @@ def is_strongly_detectable(sys: DelaySystem) -> StrongObservabilityReport:
         bad = [r for r in z.roots if r.real >= -1e-12]
         reason = (
             f"non-minimum phase: the invariant zeros (roots of {z.polynomial}) include "
-            f"{{{', '.join(_fmt(r) for r in bad) or 'a root on the imaginary axis'}}} with Re ≥ 0"
+            f"{{{', '.join(format_root(r) for r in bad) or 'a root on the imaginary axis'}}} with Re ≥ 0"
         )
     return StrongObservabilityReport("strongly detectable", holds, reason, sys.n_x, rank_BD, z, left_inv, dimV)
 

@@ -199,15 +199,18 @@ def _register_builtin() -> None:
     from uio_ring.analysis.high_gain_applicability import high_gain_applicable
     from uio_ring.analysis.molinari import molinari_sequence
     from uio_ring.analysis.normal_form_applicability import normal_form_applicable
+    from uio_ring.analysis.observer_classes import observer_options
     from uio_ring.design.delay_uio_design import DelayUIODesign
     from uio_ring.design.hierarchical_sta import HierarchicalSTADesign, design_hierarchical_sta
     from uio_ring.design.high_gain import HighGainDesign, design_high_gain
     from uio_ring.design.normal_form import NormalFormDesign, design_normal_form
+    from uio_ring.design.scb import B_OBSERVERS, D_OBSERVERS, SCBDesign, design_scb
     from uio_ring.design.zheng_bejarano import design_zheng_bejarano
     from uio_ring.verify.delay_uio import delay_uio_certificate
     from uio_ring.verify.hierarchical_sta import hierarchical_sta_certificate
     from uio_ring.verify.high_gain import high_gain_certificate
     from uio_ring.verify.normal_form import normal_form_certificate
+    from uio_ring.verify.scb import scb_design_certificate
 
     register_method(
         DesignMethod(
@@ -303,6 +306,44 @@ def _register_builtin() -> None:
             delay_free_only=True,
         )
     )
+    register_method(
+        DesignMethod(
+            name="scb",
+            summary="observer in the special coordinate basis (Tranninger et al. 2021); delay-free, strongly "
+            "detectable systems: stable invariant zeros allowed (asymptotic), sliding-mode chains for q_i > 1",
+            design_class=SCBDesign,
+            check=observer_options,
+            design=design_scb,
+            certificate=scb_design_certificate,
+            preview=_preview_scb,
+            options=(
+                MethodOption("b_observer", "choice", "observer of the x_b part: linear (Luenberger (39))",
+                             choices=B_OBSERVERS),
+                MethodOption("d_observer", "choice", "observer of the x_d part: linear (x_d = y_d, all q_i = 1), "
+                             "1-smo or hosmo (default: linear when all q_i = 1, else hosmo)", choices=D_OBSERVERS),
+                MethodOption("poles_b", "rationals", "n_b exact rationals: spec(A_b - L_b C_b) (default: n_b poles "
+                             "at -ceil(||A||_inf))"),
+                MethodOption("input_bounds", "rational_or_rationals", "bounds |w_i| <= L_i (one per unknown input, "
+                             "or one for all) for the sliding-mode gains", nonnegative=True),
+                MethodOption("input_ranges", "rational_rows", "instead of input_bounds: [lo, hi] per unknown input "
+                             "(the bound (45) of w_d is tight for a box)"),
+                MethodOption("gains", "rational_rows", "explicit differentiator gains per x_d chain, top row first "
+                             "(default: Levant's, from the bounds)"),
+            ),
+            delay_free_only=True,
+        )
+    )
+
+
+def _preview_scb(sys: DelaySystem) -> str:
+    from uio_ring.analysis.observer_classes import observer_options
+
+    rep = observer_options(sys)
+    scb = rep.scb
+    assert scb is not None
+    d = "x̂_d = y_d (linear)" if all(k == 1 for k in scb.q) else "sliding-mode chains (needs input_bounds or input_ranges)"
+    return (f"(n_a, n_b, n_d) = ({scb.n_a}, {scb.n_b}, {scb.n_d}), q = {scb.q}: poles_b takes n_b = {scb.n_b} "
+            f"value(s); x_d: {d}; convergence {rep.convergence}")
 
 
 def _preview_hierarchical_sta(sys: DelaySystem) -> str:

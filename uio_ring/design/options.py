@@ -36,6 +36,7 @@ KINDS: dict[str, dict[str, Any]] = {
     "poles": {"anyOf": [{"type": "array", "items": _SCALAR}, {"enum": ["min-noise"]}]},
     "rational_matrices": {"type": "array", "items": {"type": "array", "items": {"type": "array", "items": _SCALAR}}},
     "integer": {"type": "integer", "minimum": 0},
+    "choice": {"type": "string"},
 }
 
 
@@ -70,7 +71,8 @@ class MethodOption:
     ``name`` is the keyword of the design function and the key in the spec's
     ``design:`` section; ``kind`` one of :data:`KINDS`; ``doc`` one line for the
     schema and ``uio-ring schema``; ``required`` options have no default;
-    ``nonnegative`` options refuse negative numbers (the error names the entry).
+    ``nonnegative`` options refuse negative numbers (the error names the entry);
+    a ``choice`` option takes one of the strings ``choices``.
     """
 
     name: str
@@ -78,10 +80,13 @@ class MethodOption:
     doc: str
     required: bool = False
     nonnegative: bool = False
+    choices: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ValueError(f"option {self.name!r}: unknown kind {self.kind!r}")  # noqa: TRY003
+        if (self.kind == "choice") != bool(self.choices):
+            raise ValueError(f"option {self.name!r}: kind 'choice' and choices go together")  # noqa: TRY003
 
     def read(self, value: Any, path: str) -> Any:
         """The option's value from plain data (a spec), exact; errors name ``path``."""
@@ -98,6 +103,10 @@ class MethodOption:
             raise SpecError(f"{value} is negative; {self.name} must be ≥ 0", path=path)
 
     def _read(self, value: Any, path: str) -> Any:
+        if self.kind == "choice":
+            if not isinstance(value, str) or value not in self.choices:
+                raise SpecError(f"expected one of {', '.join(self.choices)}, got {value!r}", path=path)
+            return value
         if self.kind == "bool":
             if not isinstance(value, bool):
                 raise SpecError(f"expected true or false, got {value!r}", path=path)
@@ -126,4 +135,6 @@ class MethodOption:
 
     def schema(self) -> dict[str, Any]:
         """JSON Schema of the option's value, with its description."""
+        if self.kind == "choice":
+            return {"enum": list(self.choices), "description": self.doc}
         return {**KINDS[self.kind], "description": self.doc}

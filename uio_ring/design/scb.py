@@ -1,0 +1,389 @@
+"""Unknown-input observers in the special coordinate basis (Tranninger et al. 2021, Section 5).
+
+In SCB coordinates ``x̄ = Ts⁻¹ x``, ``ȳ = To⁻¹ (y − F u)`` (see :mod:`uio_ring.analysis.scb`)
+the observer is three pieces, each fed by the *measured* outputs:
+
+* ``x̂_a' = A_a x̂_a + H_ab y_b + H_ad y_d + B_0a y_0``                      (37)
+  — an open-loop copy, converging at the rate of the invariant zeros;
+* ``x̂_b' = A_b x̂_b + H_bd y_d + B_0b y_0 + L_b (y_b − C_b x̂_b)``          (39)
+  — Luenberger, ``spec(A_b − L_b C_b)`` assignable (``poles_b``);
+* ``x̂_d``: ``y_d`` itself when every chain has length 1 (41, exact from t = 0);
+  otherwise the higher-order sliding-mode observer (47) with a Levant
+  differentiator per chain (``1-smo`` when every ``q_i = 1``)::
+
+      x̂_d' = (A_d − H_dd C_d) x̂_d + B_d (F_da x̂_a + F_db x̂_b) + B_0d y_0 + H_dd y_d + L_d(y_d − C_d x̂_d)
+
+  with the gains of Theorem 2 from the input bounds (45) (Levant's parameters,
+  ``κ_{i,q_i} = 1.1 Δ_{d,i} > Δ_{d,i}``).
+
+Then ``x̂ = Ts x̂̄``.  The error of each piece is (38), (40), (52): ``e_a' = A_a e_a``,
+``e_b' = (A_b − L_b C_b) e_b`` — exactly, whatever ``w`` does — and the chains of
+``e_d`` converge in finite time, one after another.
+
+Not implemented: the continuous bi-homogeneous observer on ``x_b`` (CBHO, (56)) and
+the discontinuous bi-homogeneous observer on ``x_d`` (DBHO, (60)); the paper gives
+no gains for them and the simulation engine has no bi-homogeneous injection term.
+
+>>> from uio_ring import DelaySystem
+>>> sys = DelaySystem("[[-2, 1, 0], [0, 0, 1], [0, 0, 0]]", "[[0], [0], [1]]", "[[0, 1, 0]]", None)
+>>> des = design_scb(sys, input_bounds=[1])
+>>> des.d_observer, [float(k) for k in des.kappa[0]], des.certificate().ok
+('hosmo', [1.5, 1.1], True)
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any, ClassVar
+
+from uio_ring.analysis.observer_classes import ObserverOptions, observer_options
+from uio_ring.analysis.scb import SpecialCoordinateBasis
+from uio_ring.design.base import ObserverDesign, matrix_to_data
+from uio_ring.design.red_gains import levant_gains
+from uio_ring.errors import DimensionError, DomainError, NotObservableError, NotSupportedError
+from uio_ring.ring.certificate import Certificate
+from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.poly import exact_fraction
+from uio_ring.ring.qmatrix import QMatrix as Q
+from uio_ring.systems.delay_system import DelaySystem
+
+__all__ = ["SCBDesign", "design_scb", "input_bound_d", "B_OBSERVERS", "D_OBSERVERS"]
+
+#: Observers of the ``x_b`` part that are built (Table 1 also lists the CBHO).
+B_OBSERVERS = ("linear",)
+#: Observers of the ``x_d`` part that are built (Table 1 also lists the DBHO).
+D_OBSERVERS = ("linear", "1-smo", "hosmo")
+
+
+def input_bound_d(G_d: Q, ranges: Sequence[tuple[Fraction, Fraction]]) -> tuple[Fraction, ...]:
+    """(45): ``Δ_{d,i} = Σ_j |g_{ij}| u_{s,j} + |Σ_j g_{ij} u_{o,j}|`` — the largest ``|w_{d,i}|``
+    over the box ``w_j ∈ [lo_j, hi_j]`` with ``w_d = G_d w`` (tight: a vertex attains it).
+
+    >>> input_bound_d(Q([[1, 2]]), [(Fraction(-1), Fraction(1)), (Fraction(0), Fraction(1))])
+    (Fraction(3, 1),)
+    """
+    uo = [(lo + hi) / 2 for lo, hi in ranges]
+    us = [(hi - lo) / 2 for lo, hi in ranges]
+    rows = G_d.tolist()
+    return tuple(sum((abs(g) * s for g, s in zip(r, us, strict=True)), Fraction(0))
+                 + abs(sum((g * o for g, o in zip(r, uo, strict=True)), Fraction(0))) for r in rows)
+
+
+def _ranges(input_bounds: Any, input_ranges: Any, m: int) -> tuple[tuple[Fraction, Fraction], ...] | None:
+    if input_bounds is not None and input_ranges is not None:
+        raise DimensionError("give input_bounds (|w_i| ≤ L_i) or input_ranges ([lo_i, hi_i]), not both")
+    if input_ranges is not None:
+        rows = [tuple(exact_fraction(v, f"input_ranges[{i}]") for v in r) for i, r in enumerate(input_ranges)]
+        if len(rows) != m or any(len(r) != 2 for r in rows):
+            raise DimensionError(f"input_ranges needs {m} pairs [lo, hi] (one per unknown input)")
+        if any(lo > hi for lo, hi in rows):
+            raise DomainError("input_ranges: every pair needs lo ≤ hi")
+        return tuple((r[0], r[1]) for r in rows)
+    if input_bounds is None:
+        return None
+    if isinstance(input_bounds, (int, float, str, Fraction)):
+        input_bounds = [input_bounds] * m
+    Ls = [exact_fraction(v, f"input_bounds[{i}]") for i, v in enumerate(input_bounds)]
+    if len(Ls) != m:
+        raise DimensionError(f"input_bounds has {len(Ls)} entries; expected {m} (one per unknown input)")
+    if any(L < 0 for L in Ls):
+        raise DomainError("input_bounds must be ≥ 0")
+    return tuple((-L, L) for L in Ls)
+
+
+def _luenberger_gain(scb: SpecialCoordinateBasis, poles: Sequence[Fraction]) -> Q:
+    """``L_b`` with ``spec(A_b − L_b C_b) = poles``: chain i (length l_i) gets the next l_i poles;
+    ``A_b − L_b C_b = blkdiag(J − k_i e_1ᵀ)`` with ``s^l + k_1 s^{l−1} + … + k_l = Π (s − p)``."""
+    from uio_ring.ring.matrix import Poly
+
+    nb, pb = scb.n_b, scb.p_b
+    K = [[Fraction(0)] * pb for _ in range(nb)]
+    s0, used = 0, 0
+    for i, li in enumerate(scb.l):
+        poly = Poly(1, "s")
+        for pole in poles[used:used + li]:
+            poly = poly * (Poly.gen("s") - Poly(pole, "s"))
+        cs = poly.coeffs()  # a_0 … a_l (a_l = 1)
+        for k in range(li):
+            K[s0 + k][i] = Fraction(cs[li - 1 - k])
+        s0 += li
+        used += li
+    return Q(scb.H_bb) + Q(K, shape=(nb, pb)) if nb else Q.zeros(0, pb)
+
+
+@dataclass(frozen=True)
+class SCBDesign(ObserverDesign):
+    """An unknown-input observer in the special coordinate basis (Tranninger et al. 2021).
+
+    Attributes
+    ----------
+    system, scb, options
+        The system, its :class:`~uio_ring.analysis.scb.SpecialCoordinateBasis` and the
+        Table 1 report.
+    b_observer, d_observer
+        ``"linear"``; ``"linear"`` (x̂_d = y_d), ``"1-smo"`` or ``"hosmo"``.
+    poles_b, L_b
+        ``spec(A_b − L_b C_b)`` and the gain (n_b × p_b).
+    input_ranges, Delta_d, kappa
+        The box of ``w``, the bounds (45) of ``w_d`` and the differentiator gains per
+        chain (top row first); empty for the linear ``x_d``.
+    """
+
+    method: ClassVar[str] = "scb"
+
+    system: DelaySystem
+    scb: SpecialCoordinateBasis
+    b_observer: str
+    d_observer: str
+    poles_b: tuple[Fraction, ...]
+    L_b: PolyMatrix
+    input_ranges: tuple[tuple[Fraction, Fraction], ...] | None
+    Delta_d: tuple[Fraction, ...]
+    kappa: tuple[tuple[Fraction, ...], ...]
+    options: ObserverOptions | None = field(default=None, compare=False, repr=False)
+
+    # -- the observer in SCB coordinates ------------------------------------------------------
+    @property
+    def d_dynamic(self) -> bool:
+        """``x̂_d`` has states (sliding-mode chains); otherwise ``x̂_d = y_d``."""
+        return self.d_observer != "linear"
+
+    @property
+    def n_xi(self) -> int:
+        """Order of the observer."""
+        s = self.scb
+        return s.n_a + s.n_b + (s.n_d if self.d_dynamic else 0)
+
+    def observer_matrices(self) -> dict[str, Q]:
+        """``F`` and ``G`` of ``ξ' = F ξ + G ȳ (+ L_d)`` in SCB coordinates (ξ = [x̂_a; x̂_b; x̂_d]).
+
+        ``G`` acts on ``ȳ = [y_0; y_d; y_b]``.
+        """
+        s = self.scb
+        na, nb, nd, m0, md, pb = s.n_a, s.n_b, s.n_d, s.m_0, s.m_d, s.p_b
+        Z = Q.zeros
+        B0 = Q(s.B_0)
+        B0a, B0b, B0d = B0.take_rows(range(na)), B0.take_rows(range(na, na + nb)), B0.take_rows(range(na + nb, na + nb + nd))
+        Lb = Q(self.L_b)
+        Fa = [Q(s.A_a), Z(na, nb)]
+        Fb = [Z(nb, na), Q(s.A_b) - Lb @ Q(s.C_b)]
+        Ga = Q.hstack(B0a, Q(s.H_ad), Q(s.H_ab), rows=na)
+        Gb = Q.hstack(B0b, Q(s.H_bd), Lb, rows=nb)
+        if not self.d_dynamic:
+            F = Q.block([Fa, Fb]) if na + nb else Z(0, 0)
+            return {"F": F, "G": Q.vstack(Ga, Gb, cols=m0 + md + pb)}
+        Bd = Q(s.B_d)
+        Fd = [Bd @ Q(s.F_da), Bd @ Q(s.F_db), Q(s.A_d) - Q(s.H_dd) @ Q(s.C_d)]
+        F = Q.block([[*Fa, Z(na, nd)], [*Fb, Z(nb, nd)], Fd])
+        Gd = Q.hstack(B0d, Q(s.H_dd), Z(nd, pb), rows=nd)
+        return {"F": F, "G": Q.vstack(Ga, Gb, Gd, cols=m0 + md + pb)}
+
+    # -- protocol ------------------------------------------------------------------------------
+    def certificate(self) -> Certificate:
+        from uio_ring.verify.scb import scb_design_certificate
+
+        return scb_design_certificate(self)
+
+    def numeric(self, *, h: Any = None) -> Any:
+        """The float model: ``ξ`` in SCB coordinates, ``x̂ = Ts ξ̄`` (``y_d`` read through when
+        ``x̂_d = y_d``), one Levant chain per ``x_d`` chain on ``σ_i = y_{d,i} − x̂_{d,i,1}``."""
+        from uio_ring.numeric.build import injection_from_exact, model_from_exact
+
+        s, sysm = self.scb, self.system
+        n, n_y, n_u = sysm.n_x, sysm.n_y, sysm.n_u
+        Ts, To_inv = Q(s.Ts), Q(s.To).inverse(name="To")
+        Tsi = Ts.inverse(name="Ts")
+        E = Q(sysm.E) if n_u else Q.zeros(n, 0)
+        Fk = Q(sysm.F) if n_u else Q.zeros(n_y, 0)
+        mats = self.observer_matrices()
+        F, G = mats["F"], mats["G"]
+        ab = list(range(s.n_a + s.n_b))
+        d = list(range(s.n_a + s.n_b, n))
+        rows = ab + (d if self.d_dynamic else [])
+        Ebar = (Tsi @ E).take_rows(rows)
+        G_y = G @ To_inv
+        G_u = Ebar - G_y @ Fk
+        yd = list(range(s.m_0, s.m_0 + s.m_d))
+        Syd = To_inv.take_rows(yd)
+        if self.d_dynamic:
+            X, D_y, D_u = Ts, None, None
+            injection = injection_from_exact(
+                starts=tuple(len(ab) + k for k in _starts(s.q)), lengths=s.q, gains=self.kappa,
+                sigma_y=Syd.to_polymatrix(), sigma_u=(-(Syd @ Fk)).to_polymatrix())
+        else:
+            X = Ts.take_cols(ab)
+            D_y = (Ts.take_cols(d) @ Syd).to_polymatrix()
+            D_u = (-(Ts.take_cols(d) @ Syd @ Fk)).to_polymatrix() if n_u else None
+            injection = None
+        return model_from_exact(
+            F=F.to_polymatrix(), G_y=G_y.to_polymatrix(), G_u=G_u.to_polymatrix() if n_u else None,
+            X=X.to_polymatrix(), D_y=D_y, D_u=D_u, initial=Tsi.take_rows(rows).to_polymatrix(),
+            injection=injection, method=self.method, interpolation="linear" if injection else "cubic")
+
+    def to_dict(self) -> dict[str, Any]:
+        s = self.scb
+        return {
+            "method": self.method, "b_observer": self.b_observer, "d_observer": self.d_observer,
+            "n_a": s.n_a, "n_b": s.n_b, "n_d": s.n_d, "m_0": s.m_0, "q": list(s.q), "l": list(s.l),
+            "invariant_zero_polynomial": str(s.invariant_zero_polynomial),
+            "Ts": matrix_to_data(s.Ts), "Ti": matrix_to_data(s.Ti), "To": matrix_to_data(s.To),
+            "poles_b": [str(p) for p in self.poles_b], "L_b": matrix_to_data(self.L_b),
+            "input_ranges": None if self.input_ranges is None else [[str(a), str(b)] for a, b in self.input_ranges],
+            "Delta_d": [str(x) for x in self.Delta_d], "kappa": [[str(k) for k in ks] for ks in self.kappa],
+        }
+
+    def to_latex(self) -> str:
+        s = self.scb
+        parts = [r"x = T_s \bar x,\ \bar x = [x_a; x_b; x_d]"]
+        if s.n_a:
+            parts.append(r"\dot{\hat x}_a = A_a \hat x_a + H_{ab} y_b + H_{ad} y_d + B_{0a} y_0")
+        if s.n_b:
+            parts.append(r"\dot{\hat x}_b = A_b \hat x_b + H_{bd} y_d + B_{0b} y_0 + L_b (y_b - C_b \hat x_b)")
+        if self.d_dynamic:
+            parts.append(r"\dot{\hat x}_d = (A_d - H_{dd} C_d)\hat x_d + B_d (F_{da}\hat x_a + F_{db}\hat x_b)"
+                         r" + B_{0d} y_0 + H_{dd} y_d + L_d(y_d - C_d \hat x_d)")
+        elif s.n_d:
+            parts.append(r"\hat x_d = y_d")
+        parts.append(r"T_s = " + s.Ts.to_latex())
+        return r" \\ ".join(parts)
+
+    def __repr__(self) -> str:
+        s = self.scb
+        return (f"SCBDesign(n_a={s.n_a}, n_b={s.n_b}, n_d={s.n_d}, q={s.q}, l={s.l}, "
+                f"b_observer={self.b_observer!r}, d_observer={self.d_observer!r})")
+
+    def __str__(self) -> str:
+        s = self.scb
+        lines = [f"special coordinate basis observer (Tranninger et al. 2021): order {self.n_xi}",
+                 f"  (n_a, n_b, n_d) = ({s.n_a}, {s.n_b}, {s.n_d}), q = {s.q}, l = {s.l}"]
+        if s.n_a:
+            lines.append(f"  x_a: open-loop copy; error e_a' = A_a e_a, zeros of {s.invariant_zero_polynomial}")
+        if s.n_b:
+            lines.append(f"  x_b: Luenberger, spec(A_b - L_b C_b) = {{{', '.join(str(p) for p in self.poles_b)}}}")
+        if s.n_d:
+            what = {"linear": "x̂_d = y_d (exact)", "1-smo": "first-order sliding mode",
+                    "hosmo": "higher-order sliding mode (Levant differentiators)"}[self.d_observer]
+            lines.append(f"  x_d: {what}")
+            if self.kappa:
+                lines.append("  Δ_d = (" + ", ".join(f"{float(x):.6g}" for x in self.Delta_d) + "); gains "
+                             + "; ".join("(" + ", ".join(f"{float(k):.6g}" for k in ks) + ")" for ks in self.kappa))
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        return "<pre>" + html.escape(str(self)) + "</pre>"
+
+
+def _starts(q: Sequence[int]) -> list[int]:
+    out, s = [], 0
+    for k in q:
+        out.append(s)
+        s += k
+    return out
+
+
+def design_scb(
+    sys: DelaySystem,
+    *,
+    b_observer: str = "linear",
+    d_observer: str | None = None,
+    poles_b: Sequence[Any] | None = None,
+    input_bounds: Any = None,
+    input_ranges: Any = None,
+    gains: Sequence[Sequence[Any]] | None = None,
+    report: ObserverOptions | None = None,
+) -> SCBDesign:
+    """An unknown-input observer in the special coordinate basis (Tranninger et al. 2021, Section 5).
+
+    Parameters
+    ----------
+    sys
+        Delay-free and strongly detectable (:func:`~uio_ring.analysis.observer_options`).
+    b_observer
+        ``"linear"`` (39).  (The CBHO of (56) is not implemented.)
+    d_observer
+        ``"linear"`` (``x̂_d = y_d``, needs every ``q_i = 1``), ``"1-smo"`` or ``"hosmo"``
+        (47); default ``"linear"`` when every ``q_i = 1``, else ``"hosmo"``.
+        (The DBHO of (60) is not implemented.)
+    poles_b
+        ``n_b`` exact rationals, ``spec(A_b − L_b C_b)``; chain i takes the next ``l_i``
+        (default: ``n_b`` poles at ``−⌈‖A‖∞⌉``).
+    input_bounds, input_ranges
+        ``|w_i| ≤ L_i`` or ``w_i ∈ [lo_i, hi_i]`` (one of them; needed by the sliding-mode
+        observers): the bounds (45) of ``w_d`` and the gains of Theorem 2.
+    gains
+        Explicit gains per ``x_d`` chain (top row first) instead of Levant's.
+    report
+        The :func:`~uio_ring.analysis.observer_options` report, when computed already.
+
+    Raises
+    ------
+    NotObservableError
+        Not strongly detectable (the report says why), or the system has delays.
+    NotSupportedError
+        ``b_observer="cbho"`` or ``d_observer="dbho"``.
+    DimensionError, DomainError
+        Bad option shapes or values; ``x̂_d = y_d`` asked with a chain longer than 1;
+        missing bounds for a sliding-mode observer; gains violating ``κ_{i,q_i} > Δ_{d,i}``.
+
+    Examples
+    --------
+    A zero at −2 and one chain of length 2; the error of ``x̂_a`` decays like ``e^{−2t}``:
+
+    >>> from uio_ring import DelaySystem
+    >>> des = design_scb(DelaySystem("[[-2, 1, 0], [0, 0, 1], [0, 0, 0]]", "[[0], [0], [1]]", "[[0, 1, 0]]", None),
+    ...                  input_ranges=[[-1, 3]])
+    >>> des.Delta_d, des.n_xi
+    ((Fraction(3, 1),), 3)
+    """
+    rep = observer_options(sys) if report is None else report
+    if not rep.holds:
+        raise NotObservableError(f"no unknown-input observer exists: {rep.reason}", report=rep)
+    s = rep.scb
+    assert s is not None
+    if b_observer not in B_OBSERVERS:
+        raise NotSupportedError(f"b_observer={b_observer!r}: only {', '.join(B_OBSERVERS)} is built (the "
+                                "continuous bi-homogeneous observer of Tranninger et al. (56) is not implemented)")
+    unit = all(k == 1 for k in s.q)
+    d_obs = ("linear" if unit else "hosmo") if d_observer is None else d_observer
+    if d_obs not in D_OBSERVERS:
+        raise NotSupportedError(f"d_observer={d_obs!r}: one of {', '.join(D_OBSERVERS)} (the discontinuous "
+                                "bi-homogeneous observer of Tranninger et al. (60) is not implemented)")
+    if d_obs in ("linear", "1-smo") and not unit:
+        raise DomainError(f"d_observer={d_obs!r} needs every chain of length 1 (strong* detectable); the chains "
+                          f"have lengths q = {s.q}: use 'hosmo'")
+    if poles_b is None:
+        from uio_ring.design.noise import default_rate
+
+        poles = tuple(Fraction(-default_rate(sys)) for _ in range(s.n_b))
+    else:
+        poles = tuple(exact_fraction(p, f"poles_b[{i}]") for i, p in enumerate(poles_b))
+        if len(poles) != s.n_b:
+            raise DimensionError(f"poles_b has {len(poles)} entries; the x_b part has n_b = {s.n_b} states "
+                                 f"(chains l = {s.l})")
+    ranges = _ranges(input_bounds, input_ranges, sys.n_w)
+    Delta: tuple[Fraction, ...] = ()
+    kappa: tuple[tuple[Fraction, ...], ...] = ()
+    if d_obs != "linear" and s.n_d:
+        G_d = Q(s.Ti).inverse(name="Ti").take_rows(range(s.m_0, s.m_0 + s.m_d))
+        if ranges is not None:
+            Delta = input_bound_d(G_d, ranges)
+        if gains is not None:
+            kappa = tuple(tuple(exact_fraction(k, f"gains[{i}][{j}]") for j, k in enumerate(ks))
+                          for i, ks in enumerate(gains))
+            if [len(k) for k in kappa] != list(s.q):
+                raise DimensionError(f"gains: chains of lengths {s.q} need that many gains each")
+        elif ranges is None:
+            raise DimensionError(f"d_observer={d_obs!r} needs input_bounds or input_ranges (the gains of "
+                                 "Theorem 2 come from the bounds of the unknown input)")
+        else:
+            # Levant's gains need L > 0; a zero bound (w_d ≡ 0) still gets a small positive gain
+            kappa = tuple(levant_gains(qi, D if D > 0 else Fraction(1, 10**6)) for qi, D in zip(s.q, Delta, strict=True))
+        if Delta and any(k[-1] <= D for k, D in zip(kappa, Delta, strict=True)):
+            raise DomainError("gains: Theorem 2 needs κ_{i,q_i} > Δ_{d,i} (" + ", ".join(
+                f"{float(k[-1]):.6g} vs {float(D):.6g}" for k, D in zip(kappa, Delta, strict=True)) + ")")
+    return SCBDesign(system=sys, scb=s, b_observer=b_observer, d_observer=d_obs, poles_b=poles,
+                     L_b=_luenberger_gain(s, poles).to_polymatrix(), input_ranges=ranges, Delta_d=Delta,
+                     kappa=kappa, options=rep)
