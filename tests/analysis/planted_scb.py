@@ -59,14 +59,15 @@ def _sel(lengths, end: bool) -> Q:
     return M.T if end else M
 
 
-def planted(n_a: int, l: tuple[int, ...], q: tuple[int, ...], m_0: int, rng: random.Random) -> Planted:
+def planted(n_a: int, l: tuple[int, ...], q: tuple[int, ...], m_0: int, rng: random.Random,
+            A_a: Q | None = None) -> Planted:
     l = tuple(sorted(l, reverse=True))
     q = tuple(sorted(q, reverse=True))
     nb, nd, md, pb = sum(l), sum(q), len(q), len(l)
     n, m, p = n_a + nb + nd, m_0 + md, m_0 + md + pb
     Cb, Cd, Bd = _sel(l, False), _sel(q, False), _sel(q, True)
     Z = Q.zeros
-    Aa = _rand(rng, n_a, n_a)
+    Aa = _rand(rng, n_a, n_a) if A_a is None else A_a
     Ab = _shift(l) + _rand(rng, nb, pb) @ Cb
     Ad = _shift(q) + Bd @ _rand(rng, md, nd) + _rand(rng, nd, md) @ Cd
     As = Q.block([

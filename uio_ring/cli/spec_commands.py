@@ -203,6 +203,12 @@ def _run_check(args: argparse.Namespace) -> int:
         if holds and METHODS[name].preview is not None:
             print(METHODS[name].preview(system))
         any_ok = any_ok or holds
+    if system.is_delay_free and "scb" in METHODS and "scb" not in [c[0] for c in checked]:
+        from uio_ring.analysis.observer_classes import observer_options
+
+        print(_rule("which unknown-input observers exist (special coordinate basis)"))
+        with _Heartbeat(f"special coordinate basis ({_size_text(system)})"):
+            print(observer_options(system))
     if not any_ok and spec.design.method != "auto":
         others = [m for m in METHODS.values() if m.name != spec.design.method and m.applies(system)[0]]
         for m in others:
@@ -265,7 +271,7 @@ def _performance_line(design: Any, spec: Any) -> str:
     try:
         perf = design.performance(h=spec.system.h)
     except NotSupportedError:
-        return "performance: finite-time observer with a nonlinear injection term (no linear noise gain)"
+        return "performance: observer with a nonlinear (sliding-mode) injection term: no linear noise gain"
     except SimulationError as exc:
         return f"performance: not computed ({exc})"
     return "performance: " + perf.summary()

@@ -145,6 +145,11 @@ class SCBDesign(ObserverDesign):
     kappa: tuple[tuple[Fraction, ...], ...]
     options: ObserverOptions | None = field(default=None, compare=False, repr=False)
 
+    @property
+    def assumptions(self) -> ObserverOptions:
+        """The Table 1 report this design rests on (printed by ``uio-ring design``)."""
+        return self.options if self.options is not None else observer_options(self.system)
+
     # -- the observer in SCB coordinates ------------------------------------------------------
     @property
     def d_dynamic(self) -> bool:
@@ -200,27 +205,33 @@ class SCBDesign(ObserverDesign):
         Fk = Q(sysm.F) if n_u else Q.zeros(n_y, 0)
         mats = self.observer_matrices()
         F, G = mats["F"], mats["G"]
-        ab = list(range(s.n_a + s.n_b))
-        d = list(range(s.n_a + s.n_b, n))
-        rows = ab + (d if self.d_dynamic else [])
-        Ebar = (Tsi @ E).take_rows(rows)
-        G_y = G @ To_inv
-        G_u = Ebar - G_y @ Fk
+        nab, nd = s.n_a + s.n_b, s.n_d
+        Ebar = Tsi @ E
         yd = list(range(s.m_0, s.m_0 + s.m_d))
         Syd = To_inv.take_rows(yd)
+        initial = Tsi
+        D_y = D_u = None
+        injection = None
         if self.d_dynamic:
-            X, D_y, D_u = Ts, None, None
             injection = injection_from_exact(
-                starts=tuple(len(ab) + k for k in _starts(s.q)), lengths=s.q, gains=self.kappa,
+                starts=tuple(nab + k for k in _starts(s.q)), lengths=s.q, gains=self.kappa,
                 sigma_y=Syd.to_polymatrix(), sigma_u=(-(Syd @ Fk)).to_polymatrix())
         else:
-            X = Ts.take_cols(ab)
-            D_y = (Ts.take_cols(d) @ Syd).to_polymatrix()
-            D_u = (-(Ts.take_cols(d) @ Syd @ Fk)).to_polymatrix() if n_u else None
-            injection = None
+            # Remark 3: x̂_d = z_d + y_d with z_d' = −ρ z_d, z_d(0) = 0 is (41) exactly; ρ bounds the
+            # spectrum of the x_a, x_b part (Gershgorin), so z_d never sets the decay rate
+            rho = 1 + max((abs(v) for row in F.tolist() for v in row), default=0) * max(nab, 1)
+            F = Q.block([[F, Q.zeros(nab, nd)], [Q.zeros(nd, nab), Q.identity(nd) * (-rho)]]) if nab else \
+                Q.identity(nd) * (-rho)
+            G = Q.vstack(G, Q.zeros(nd, G.cols), cols=G.cols)
+            D_y = Q.vstack(Q.zeros(nab, n_y), Syd, cols=n_y).to_polymatrix()
+            D_u = Q.vstack(Q.zeros(nab, n_u), -(Syd @ Fk), cols=n_u).to_polymatrix() if n_u else None
+            initial = Q.vstack(Tsi.take_rows(range(nab)), Q.zeros(nd, n), cols=n)
+            Ebar = Q.vstack(Ebar.take_rows(range(nab)), Q.zeros(nd, n_u), cols=n_u)
+        G_y = G @ To_inv
+        G_u = Ebar - G_y @ Fk
         return model_from_exact(
             F=F.to_polymatrix(), G_y=G_y.to_polymatrix(), G_u=G_u.to_polymatrix() if n_u else None,
-            X=X.to_polymatrix(), D_y=D_y, D_u=D_u, initial=Tsi.take_rows(rows).to_polymatrix(),
+            X=Ts.to_polymatrix(), D_y=D_y, D_u=D_u, initial=initial.to_polymatrix(),
             injection=injection, method=self.method, interpolation="linear" if injection else "cubic")
 
     def to_dict(self) -> dict[str, Any]:

@@ -65,10 +65,10 @@ def scb_design_certificate(d: Any) -> Certificate:
     else:
         rows = list(range(nab))
         add("error: Ā − G C̄ = F", "e_ab = x̄_ab − ξ obeys e_ab' = F e_ab (x̂_d = y_d exactly)",
-            lambda: {"residual": ((Abar - G @ Cbar).take_rows(rows)
+            lambda: {"residual": (Abar.take_rows(rows) - G @ Cbar
                                   - Q.hstack(F, Q.zeros(nab, s.n_d), rows=nab)).to_polymatrix()})
         add("error: B̄ − G D̄ = 0 on x_a, x_b", "the unknown input does not reach the error",
-            lambda: {"residual": (Bbar - G @ Dbar).take_rows(rows).to_polymatrix()})
+            lambda: {"residual": (Bbar.take_rows(rows) - G @ Dbar).to_polymatrix()})
         add("(41) x̂_d = y_d", "every chain has length 1 and y_d = x_d exactly",
             lambda: None if all(k == 1 for k in s.q) else f"chains q = {s.q}")
     if d.input_ranges is not None and d.Delta_d:
