@@ -111,6 +111,15 @@ _LAZY: dict[str, str] = {
     "design_high_gain": "uio_ring.design.high_gain",
     "HighGainDesign": "uio_ring.design.high_gain",
     "high_gain_certificate": "uio_ring.verify.high_gain",
+    # delay-free methods II (issue 10): the special coordinate basis (Tranninger et al. 2021)
+    "special_coordinate_basis": "uio_ring.analysis.scb",
+    "SpecialCoordinateBasis": "uio_ring.analysis.scb",
+    "scb_dimensions": "uio_ring.analysis.scb",
+    "observer_options": "uio_ring.analysis.observer_classes",
+    "ObserverOptions": "uio_ring.analysis.observer_classes",
+    "design_scb": "uio_ring.design.scb",
+    "SCBDesign": "uio_ring.design.scb",
+    "scb_design_certificate": "uio_ring.verify.scb",
 }
 
 __all__ = sorted(_LAZY) + ["__version__"]

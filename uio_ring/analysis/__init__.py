@@ -19,6 +19,7 @@ from uio_ring.analysis.normal_form_applicability import (
     normal_form_applicable,
 )
 from uio_ring.analysis.observability import unknown_input_observability
+from uio_ring.analysis.observer_classes import ObserverOptions, observer_options
 from uio_ring.analysis.output_shaping import (
     ExtendStep,
     Filter,
@@ -34,6 +35,13 @@ from uio_ring.analysis.report import (
     ObservabilityReport,
     RankConditionReport,
     Report,
+)
+from uio_ring.analysis.scb import (
+    NotLeftInvertibleError,
+    SCBDimensions,
+    SpecialCoordinateBasis,
+    scb_dimensions,
+    special_coordinate_basis,
 )
 from uio_ring.analysis.strong_observability import (
     InvariantZeros,
@@ -90,4 +98,12 @@ __all__ = [
     "high_gain_applicable",
     "JacobianBasis",
     "jacobian_basis",
+    # issue 10: the special coordinate basis and Table 1 (Tranninger et al. 2021)
+    "NotLeftInvertibleError",
+    "ObserverOptions",
+    "SCBDimensions",
+    "SpecialCoordinateBasis",
+    "observer_options",
+    "scb_dimensions",
+    "special_coordinate_basis",
 ]
