@@ -36,6 +36,7 @@ KINDS: dict[str, dict[str, Any]] = {
     "poles": {"anyOf": [{"type": "array", "items": _SCALAR}, {"enum": ["min-noise"]}]},
     "rational_matrices": {"type": "array", "items": {"type": "array", "items": {"type": "array", "items": _SCALAR}}},
     "integer": {"type": "integer", "minimum": 0},
+    "criterion": {"enum": ["peak", "h2"]},
 }
 
 
@@ -110,6 +111,10 @@ class MethodOption:
                     raise SpecError(f"expected a list of rationals or 'min-noise', got {value!r}", path=path)
                 return value
             return tuple(_exact(v, f"{path}[{i}]") for i, v in enumerate(_list(value, path)))
+        if self.kind == "criterion":
+            if value not in KINDS["criterion"]["enum"]:
+                raise SpecError(f"expected one of {', '.join(KINDS['criterion']['enum'])}, got {value!r}", path=path)
+            return value
         if self.kind == "rationals":
             return tuple(_exact(v, f"{path}[{i}]") for i, v in enumerate(_list(value, path)))
         if self.kind == "integer":
