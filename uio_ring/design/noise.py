@@ -38,7 +38,7 @@ from uio_ring.errors import DomainError, SimulationError
 from uio_ring.ring.poly import exact_fraction
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["default_rate", "pole_patterns", "search_poles", "least_noise", "couple", "read_noise_options",
+__all__ = ["default_rate", "pole_patterns", "search_poles", "least_noise", "couple", "coupled_models", "read_noise_options",
            "figure", "NOISE_CHOICES", "CRITERIA", "SPREADS"]
 
 #: The words ``poles`` accepts besides a list of rationals.
@@ -232,6 +232,39 @@ def _round_sig(x: float, digits: int) -> Fraction:
     return Fraction(round(x / 10.0**e)) * Fraction(10) ** e
 
 
+def coupled_models(design: Any, h: Any) -> Callable[[np.ndarray], Any]:
+    """``ΔG ↦`` the float model of the Zheng–Bejarano ``design`` with ``G0 + ΔG`` (``ΔG`` a
+    constant float ``r l* × r`` array), in closed form: with ``Δ = [ΔG, 0]``,
+    ``L0' = L0 − ΔG C0``, ``(HΛ)' = HΛ − Δ Γ̄1 Λ`` and
+    ``(JΛ)' = JΛ + Δ (I − Γ̄2) Λ + L0' (HΛ)' − L0 HΛ`` — (22′) with the new ``G0``, no
+    exact arithmetic (``ΔG = 0`` gives ``design.numeric(h)``).
+    """
+    from uio_ring.numeric.convert import coefficient_arrays
+    from uio_ring.ring.matrix import PolyMatrix
+
+    base = design.numeric(h=h)
+    p, r = base.n_y, design.r
+    P1 = coefficient_arrays(design.Gamma1_bar @ design.Lam, name="Γ̄1 Λ")
+    P2 = coefficient_arrays((PolyMatrix.identity(p) - design.Gamma2_bar) @ design.Lam, name="(I − Γ̄2) Λ")
+    C0 = coefficient_arrays(design.C0, name="C0")[0]
+    n_taps = max(base.G_y.shape[0], base.D_y.shape[0], P1.shape[0], P2.shape[0], 1)
+
+    def taps(a: np.ndarray) -> np.ndarray:
+        return np.concatenate([a, np.zeros((n_taps - a.shape[0], *a.shape[1:]))]) if a.shape[0] < n_taps else a
+
+    G, D, P1t, P2t = (taps(a) for a in (base.G_y, base.D_y, P1, P2))
+    FD = np.einsum("ij,kjl->kil", base.F, D)
+
+    def model(delta: np.ndarray) -> Any:
+        Dp = np.hstack([delta, np.zeros((delta.shape[0], p - r))])
+        F = base.F - delta @ C0
+        D2 = D - np.einsum("ij,kjl->kil", Dp, P1t)
+        G2 = G + np.einsum("ij,kjl->kil", Dp, P2t) + np.einsum("ij,kjl->kil", F, D2) - FD
+        return replace(base, F=F, G_y=G2, D_y=D2)
+
+    return model
+
+
 def couple(design: Any, h: Any, criterion: str = "peak", *, max_evaluations: int = 80) -> tuple[Any, str] | None:
     """A strictly block-triangular ``ΔG0`` lowering the noise gain of a Zheng–Bejarano design,
     as ``(exact rl × r PolyMatrix, description)``, or ``None`` (``r = 1``, or no gain).
@@ -257,25 +290,8 @@ def couple(design: Any, h: Any, criterion: str = "peak", *, max_evaluations: int
     if r < 2:
         return None
     base = design.numeric(h=h)
-    p = base.n_y
-    P1 = coefficient_arrays(design.Gamma1_bar @ design.Lam, name="Γ̄1 Λ")
-    P2 = coefficient_arrays((PolyMatrix.identity(p) - design.Gamma2_bar) @ design.Lam, name="(I − Γ̄2) Λ")
-    C0 = coefficient_arrays(design.C0, name="C0")[0]
+    model = coupled_models(design, h)
     g = [float(coefficient_arrays(design.G0, name="G0")[0][k * r, 0]) for k in range(l)]
-
-    def taps(a: np.ndarray, n: int) -> np.ndarray:
-        return np.concatenate([a, np.zeros((n - a.shape[0], *a.shape[1:]))]) if a.shape[0] < n else a
-
-    n_taps = max(base.G_y.shape[0], base.D_y.shape[0], P1.shape[0], P2.shape[0], 1)
-    G, D, P1t, P2t = (taps(a, n_taps) for a in (base.G_y, base.D_y, P1, P2))
-    FD = np.einsum("ij,kjl->kil", base.F, D)
-
-    def model(delta: np.ndarray) -> Any:
-        Dp = np.hstack([delta, np.zeros((delta.shape[0], p - r))])
-        F = base.F - delta @ C0
-        D2 = D - np.einsum("ij,kjl->kil", Dp, P1t)
-        G2 = G + np.einsum("ij,kjl->kil", Dp, P2t) + np.einsum("ij,kjl->kil", F, D2) - FD
-        return replace(base, F=F, G_y=G2, D_y=D2)
 
     best: tuple[float, np.ndarray, str] | None = None
     f0 = figure(_estimate(base), criterion)
