@@ -290,7 +290,10 @@ def gain_estimate(model: ObserverModel, *, points_per_pole: float = 10.0,
         step = h / max(1, math.ceil(h / step))
     if horizon / step > MAX_GRID_POINTS:
         return np.full(model.n_x, np.inf), np.full(model.n_x, np.inf)
-    l1, l2 = _integrals(model, step, horizon)
-    dirac = _dirac_weight(model)
-    h2 = None if np.any(dirac) else np.sqrt(l2.sum(axis=1))
-    return (l1 + dirac).sum(axis=1), h2
+    with np.errstate(all="ignore"):  # a badly conditioned candidate overflows: its gain is infinite
+        l1, l2 = _integrals(model, step, horizon)
+        dirac = _dirac_weight(model)
+        p2p = (l1 + dirac).sum(axis=1)
+        h2 = None if np.any(dirac) else np.sqrt(l2.sum(axis=1))
+    p2p = np.where(np.isfinite(p2p), p2p, np.inf)
+    return p2p, None if h2 is None else np.where(np.isfinite(h2), h2, np.inf)
