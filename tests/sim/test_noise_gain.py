@@ -153,11 +153,13 @@ def test_the_closed_form_coupled_model_is_the_assembled_one():
     assert rebuilt.certificate().ok  # strictly upper block-triangular: the same spectrum, exactly
     want = rebuilt.numeric(h=H)
     got = coupled_models(base, H)(np.array([[float(v) for v in row] for row in delta]))
+    def pad(m, n):
+        return np.concatenate([m, np.zeros((n - m.shape[0], *m.shape[1:]))]) if m.ndim == 3 else m
+
     for name in ("F", "G_y", "D_y", "X"):
         a, b = getattr(got, name), getattr(want, name)
         n = max(a.shape[0], b.shape[0])
-        pad = lambda m, n=n: np.concatenate([m, np.zeros((n - m.shape[0], *m.shape[1:]))]) if m.ndim == 3 else m
-        assert np.allclose(pad(a), pad(b), atol=1e-9 * max(1, np.abs(b).max())), name
+        assert np.allclose(pad(a, n), pad(b, n), atol=1e-9 * max(1, np.abs(b).max())), name
 
 
 def test_gain_estimate_agrees_with_performance(min_noise10, design10):
