@@ -123,14 +123,14 @@ def _max_error_after_settle(out: str) -> float:
 def test_min_noise_example_lowers_the_simulated_error(tmp_path, capsys):
     """The noisy example of paper 001 with the paper's poles and with poles='min-noise': the
     design output states the noise gain, and the simulated error after the start-up falls
-    (measured 135 → 19.8, 6.8×; the guaranteed peak-to-peak gain falls 3.6×)."""
+    (measured 135 → 10.2, 13×; the guaranteed peak-to-peak gain falls 9.5×, 327.8 → 34.7)."""
     peaks = []
     for name in ("zheng2015_noisy.yaml", "zheng2015_min_noise.yaml"):
         code = main(["simulate", str(EXAMPLES / name), "--out", str(tmp_path / name), "--no-plot", "--no-progress"])
         out = capsys.readouterr().out
         assert code == 0
         peaks.append(_max_error_after_settle(out))
-    assert peaks[1] * 3 <= peaks[0], peaks
+    assert peaks[1] * 5 <= peaks[0], peaks
     assert main(["design", str(EXAMPLES / "zheng2015_min_noise.yaml"), "--out", str(tmp_path / "d")]) == 0
     assert "noise gain per state" in capsys.readouterr().out
 

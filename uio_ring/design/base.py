@@ -39,6 +39,8 @@ class ObserverDesign(ABC):
 
     #: The method's registry name, e.g. ``"zheng-bejarano"`` (one spelling everywhere).
     method: ClassVar[str] = ""
+    #: What :meth:`performance` measures when it is not the whole observer (empty: all of it).
+    noise_scope: ClassVar[str] = ""
 
     @abstractmethod
     def certificate(self) -> Certificate:
@@ -49,12 +51,18 @@ class ObserverDesign(ABC):
         """The float :class:`~uio_ring.numeric.model.ObserverModel` that the engine steps
         (``h``: the basic delay, when the design's system has none)."""
 
+    def linear_model(self, *, h: Any = None) -> Any:
+        """The linear float model whose figures :meth:`performance` gives: the whole observer
+        (:meth:`numeric`) unless the method says otherwise (:attr:`noise_scope`)."""
+        return self.numeric(h=h)
+
     def performance(self, *, h: Any = None, tolerance: float = 1e-3) -> Any:
         """Decay rate, convergence time, the peak-to-peak noise gain (delayed taps and direct
         feed-through included exactly), the H2 gain when finite, lag and order of a linear
         observer: :class:`~uio_ring.numeric.performance.ObserverPerformance`.  ``h`` is needed
-        when the system has none and the observer has delays.  Raises ``NotSupportedError``
-        for observers with a nonlinear injection term.
+        when the system has none and the observer has delays.  Observers with a nonlinear
+        injection term: the figures of the linear stage their method names
+        (:meth:`linear_model`, :attr:`noise_scope`), else ``NotSupportedError``.
 
         >>> from uio_ring import DelaySystem, design_zheng_bejarano
         >>> des = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None),
@@ -65,7 +73,7 @@ class ObserverDesign(ABC):
         """
         from uio_ring.numeric.performance import performance
 
-        return performance(self.numeric(h=h), tolerance=tolerance)
+        return performance(self.linear_model(h=h), tolerance=tolerance, scope=self.noise_scope)
 
     @abstractmethod
     def to_dict(self) -> dict[str, Any]:

@@ -70,7 +70,9 @@ class DelayUIODesign(ObserverDesign):
     and is computed from ``ẑ`` over ``[t − lag·h, t]``, so it needs ``lag·h``
     of history.  ``poles`` are the
     ``l*`` requested eigenvalues of ``A0 − G0 C0`` on each of the ``r`` output
-    channels.  ``choice`` says how U, Λ and the left inverses were chosen.
+    channels; ``G0`` places them, and with ``poles="min-noise"`` may also couple the
+    channels (a strictly block-triangular part: ``det(sI − L0)`` is unchanged, the
+    certificate checks it).  ``choice`` says how U, Λ and the left inverses were chosen.
     """
 
     method: ClassVar[str] = "zheng-bejarano"

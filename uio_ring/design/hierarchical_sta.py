@@ -69,6 +69,8 @@ class HierarchicalSTADesign(ObserverDesign):
     """
 
     method: ClassVar[str] = "hierarchical-sta"
+    noise_scope: ClassVar[str] = ("Luenberger stage x̃' = (A − K C) x̃ + K y (noise → x̃; the super-twisting "
+                                  "levels that correct it are nonlinear and not counted)")
 
     system: DelaySystem
     M: tuple[PolyMatrix, ...]
@@ -91,6 +93,21 @@ class HierarchicalSTADesign(ObserverDesign):
         from uio_ring.verify.hierarchical_sta import hierarchical_sta_certificate
 
         return hierarchical_sta_certificate(self)
+
+    def linear_model(self, *, h: Any = None) -> Any:
+        """The Luenberger stage ``x̃' = (A − K C) x̃ + K y``, ``x̂ = x̃`` (known inputs omitted):
+        the linear part whose poles ``K`` places; the levels above it are nonlinear.
+
+        >>> from uio_ring import DelaySystem
+        >>> sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0]]", None)
+        >>> design_hierarchical_sta(sys, poles=[-1, -2]).linear_model().F.tolist()
+        [[-3.0, 1.0], [-2.0, 0.0]]
+        """
+        from uio_ring.numeric.build import model_from_exact
+
+        sys = self.system
+        return model_from_exact(F=sys.A - self.K @ sys.C, G_y=self.K, X=PolyMatrix.identity(sys.n_x),
+                                method=self.method)
 
     def numeric(self, *, h: Any = None) -> Any:
         """The float model: ``ξ = [x̃; q; ι; (ζ, z) per component of every level]`` with one
@@ -252,8 +269,10 @@ def design_hierarchical_sta(
     sys: DelaySystem,
     *,
     K: Any = None,
-    poles: Sequence[Any] | None = None,
+    poles: Sequence[Any] | str | None = None,
     gains: Any = None,
+    rate: Any = None,
+    criterion: str | None = None,
     report: MolinariSequence | None = None,
 ) -> HierarchicalSTADesign:
     """Design the hierarchical super-twisting observer (Algorithm 2 of the paper).
@@ -269,7 +288,12 @@ def design_hierarchical_sta(
         ``n`` exact rationals for ``spec(A − K C)`` (Ackermann's formula on one combined
         output, exact — its gains can be large, which the super-twisting levels must then
         dominate: prefer a K of your own when they are); default ``−1, …, −n`` when ``A`` is
-        not Hurwitz.
+        not Hurwitz.  ``"min-noise"``: the pole set of least noise gain of the Luenberger
+        stage (:attr:`HierarchicalSTADesign.noise_scope`) among ``−rate·(1, q, q², …)``
+        (:func:`~uio_ring.design.noise.search_poles`).
+    rate, criterion
+        With ``poles="min-noise"`` only: the slowest decay rate allowed (default
+        ``⌈‖A‖∞⌉``) and ``"peak"`` (default) or ``"h2"`` (the figure minimised).
     gains
         ``[[λ_1, α_1], …]`` per level (``l − 1`` levels); default :data:`DEFAULT_GAINS` for
         every level (the values of the paper's Example 1).  The paper's sufficient
@@ -291,6 +315,16 @@ def design_hierarchical_sta(
                                  f"{seq.reason}", report=seq)
     n, p = sys.n_x, sys.n_y
     A, C = sys.A, sys.C
+    if isinstance(poles, str):
+        from uio_ring.design.noise import read_noise_options, search_poles
+
+        if K is not None:
+            raise DomainError("give K or poles, not both")
+        alpha, crit = read_noise_options(sys, poles, rate, criterion)
+        return search_poles(lambda pat: design_hierarchical_sta(sys, poles=pat, gains=gains, report=seq), n,
+                            rate=alpha, criterion=crit, model=lambda d: d.linear_model())[1]
+    if rate is not None or criterion is not None:
+        raise DomainError("rate and criterion apply to poles='min-noise' only")
     if K is not None:
         Km = K if isinstance(K, PolyMatrix) else PolyMatrix([[str(x) if not isinstance(x, str) else x for x in r]
                                                               for r in K])

@@ -409,6 +409,7 @@ def theorem1_bound(q: tuple[int, ...], coefficients: tuple[tuple[Fraction, ...],
 
 def design_high_gain(sys: DelaySystem, *, W: Any = None, phi: Any = None, poles: Any = None,
                      coefficients: Any = None, epsilon: Any = 1, max_order: Any = None, mu_bounds: Any = None,
+                     rate: Any = None, criterion: str | None = None,
                      report: HighGainApplicability | None = None) -> HighGainDesign:
     """A high-gain observer for ``x' = A x + E u + φ(t, x)``, ``y = C x + F u`` (Grip & Saberi 2010).
 
@@ -426,7 +427,13 @@ def design_high_gain(sys: DelaySystem, *, W: Any = None, phi: Any = None, poles:
         :func:`~uio_ring.analysis.jacobian_basis.jacobian_basis` of φ.
     poles
         Real negative rationals; chain i gets ``Π_{j ≤ q_i} (s − poles[j])``
-        (default ``−1, −2, …``).
+        (default ``−1, −2, …``).  ``"min-noise"``: the poles of least noise gain of the
+        observer (linear: φ is not part of the figure) among ``−ε·rate·(1, q, q², …)``
+        (:func:`~uio_ring.design.noise.search_poles`; the error's chain poles are
+        ``poles/ε``, so every one is at least as fast as ``−rate``).
+    rate, criterion
+        With ``poles="min-noise"`` only: the slowest decay rate allowed (default
+        ``⌈‖A‖∞⌉``) and ``"peak"`` (default) or ``"h2"`` (the figure minimised).
     coefficients
         Instead of poles: ``[k*_1, …, k*_q]`` per chain (the chain polynomial
         ``s^q + k*_1 s^{q−1} + … + k*_q``, Hurwitz), chains longest first; one row
@@ -485,6 +492,18 @@ def design_high_gain(sys: DelaySystem, *, W: Any = None, phi: Any = None, poles:
     if not shaping.found:
         raise NotObservableError(f"output shaping: {shaping.message}", report=shaping)
     cf = canonical_form(shaping.A_e, shaping.C_e, shaping.W_e)
+    if isinstance(poles, str):
+        from uio_ring.design.noise import read_noise_options, search_poles
+
+        if coefficients is not None:
+            raise DomainError("give poles or coefficients, not both")
+        alpha, crit = read_noise_options(sys, poles, rate, criterion)
+        return search_poles(
+            lambda pat: design_high_gain(sys, W=Ws, poles=[eps * p for p in pat], epsilon=eps, max_order=max_order,
+                                         mu_bounds=mu_bounds, report=report),
+            max(cf.q), rate=alpha, criterion=crit, model=lambda d: d.numeric())[1]
+    if rate is not None or criterion is not None:
+        raise DomainError("rate and criterion apply to poles='min-noise' only")
     coeffs = _chain_coefficients(cf.q, poles, coefficients)
     mus = None
     if mu_bounds is not None:

@@ -203,6 +203,7 @@ def _register_builtin() -> None:
     from uio_ring.design.delay_uio_design import DelayUIODesign
     from uio_ring.design.hierarchical_sta import HierarchicalSTADesign, design_hierarchical_sta
     from uio_ring.design.high_gain import HighGainDesign, design_high_gain
+    from uio_ring.design.noise import CRITERIA
     from uio_ring.design.normal_form import NormalFormDesign, design_normal_form
     from uio_ring.design.scb import B_OBSERVERS, D_OBSERVERS, SCBDesign, design_scb
     from uio_ring.design.zheng_bejarano import design_zheng_bejarano
@@ -228,6 +229,9 @@ def _register_builtin() -> None:
                              "every pole at least as fast as -rate (default: l* poles at -rate)"),
                 MethodOption("rate", "rational", "the slowest decay rate of the observer error "
                              "(default: ceil(||A(1)||_inf), at least 1)"),
+                MethodOption("criterion", "choice", "with poles: min-noise, the figure minimised: peak "
+                             "(peak-to-peak gain of the worst state, default) or h2 (its H2 gain; refused when "
+                             "infinite for every candidate)", choices=CRITERIA),
                 MethodOption("search", "bool", "try the variants of the design choices and keep the "
                              "smallest observer with the least lag (default true)"),
             ),
@@ -249,7 +253,8 @@ def _register_builtin() -> None:
                 MethodOption("reconstruct_input", "bool", "also reconstruct the unknown input w "
                              "(augmented state [x; w])"),
                 MethodOption("gains", "rational_rows", "differentiator gains per chain, top to bottom "
-                             "(default: Levant's parameters scaled by the Lipschitz constants)"),
+                             "(default: Levant's parameters scaled by the Lipschitz constants; no free poles: "
+                             "the linear part is nilpotent, so no poles: min-noise)"),
                 MethodOption("lipschitz", "rationals", "Lipschitz constants per chain (default from "
                              "the input bounds)"),
                 MethodOption("safety", "rational", "safety factor of the default Lipschitz rule (default 8)"),
@@ -274,8 +279,14 @@ def _register_builtin() -> None:
             options=(
                 MethodOption("K", "rational_rows", "Luenberger gain, n_x x n_y, A - K C Hurwitz (default: 0 "
                              "when A is Hurwitz, else the gain placing poles)"),
-                MethodOption("poles", "rationals", "n_x exact rationals: spec(A - K C) (default -1, ..., -n_x "
-                             "when A is not Hurwitz)"),
+                MethodOption("poles", "poles", "n_x exact rationals: spec(A - K C) (default -1, ..., -n_x "
+                             "when A is not Hurwitz); or min-noise: the poles of least noise gain of the "
+                             "Luenberger stage (noise -> x~) with every pole at least as fast as -rate"),
+                MethodOption("rate", "rational", "with poles: min-noise, the slowest decay rate allowed "
+                             "(default ceil(||A||_inf), at least 1)"),
+                MethodOption("criterion", "choice", "with poles: min-noise, the figure minimised: peak "
+                             "(peak-to-peak gain of the worst state, default) or h2 (its H2 gain; refused when "
+                             "infinite for every candidate)", choices=CRITERIA),
                 MethodOption("gains", "rational_rows", "[lambda, alpha] of the super-twisting terms per level "
                              "(l - 1 levels; default [15, 10])"),
             ),
@@ -294,8 +305,14 @@ def _register_builtin() -> None:
             options=(
                 MethodOption("W", "rational_matrices", "the n×n matrices W_k with dφ/dx = Σ ζ_k W_k "
                              "(linearly independent; default none)"),
-                MethodOption("poles", "rationals", "real negative poles; chain i gets the first q_i "
-                             "(default -1, -2, ...)"),
+                MethodOption("poles", "poles", "real negative poles; chain i gets the first q_i "
+                             "(default -1, -2, ...); or min-noise: the poles of least noise gain (phi not "
+                             "counted) with every error pole (poles/epsilon) at least as fast as -rate"),
+                MethodOption("rate", "rational", "with poles: min-noise, the slowest decay rate allowed "
+                             "(default ceil(||A||_inf), at least 1)"),
+                MethodOption("criterion", "choice", "with poles: min-noise, the figure minimised: peak "
+                             "(peak-to-peak gain of the worst state, default) or h2 (its H2 gain; refused when "
+                             "infinite for every candidate)", choices=CRITERIA),
                 MethodOption("coefficients", "rational_rows", "instead of poles: k*_1..k*_q per chain "
                              "(s^q + k*_1 s^(q-1) + ... + k*_q Hurwitz), chains longest first"),
                 MethodOption("epsilon", "rational", "the high-gain parameter in (0, 1] (default 1)"),

@@ -196,11 +196,14 @@ def _assemble(
     O_left_inverse: PolyMatrix | None = None,
     T_left_inverse: PolyMatrix | None = None,
     poles: Sequence[Any] | None = None,
+    G0_extra: PolyMatrix | None = None,
     choice: str = "",
     assumptions: AssumptionsReport | None = None,
 ) -> DelayUIODesign:
     """Steps 2 (end) to 5 for given choices; the remaining choices take the ring's
-    reduced defaults.  Precondition: ``Lam`` is unimodular with ``Lam C̃ = [C̄; 0]``."""
+    reduced defaults.  ``G0_extra`` is added to the ``G0`` of the poles (a strictly
+    block-triangular coupling, :func:`~uio_ring.design.noise.couple`: same spectrum).
+    Precondition: ``Lam`` is unimodular with ``Lam C̃ = [C̄; 0]``."""
     n, p = sys.n_x, sys.n_y
     W = s12.W
     K, Gamma = W[0:n, 0 : 2 * p], W[n : n + p, 0 : 2 * p]
@@ -231,6 +234,8 @@ def _assemble(
     vals = _default_poles(sys, l_star) if poles is None else _read_poles(poles, l_star)
     A0, C0 = _shift_matrices(r, l_star)
     G0 = _gain_from_poles(vals, r)
+    if G0_extra is not None:
+        G0 = G0 + G0_extra
     L0 = A0 - G0 @ C0
     Lam_inv = left_inverse(Lam)
     G1b, G2b = Lam @ G1 @ Lam_inv, Lam @ G2 @ Lam_inv
@@ -377,8 +382,8 @@ def _lambda_choices(C_tilde: PolyMatrix) -> Iterator[tuple[str, PolyMatrix]]:
 
 
 def design_zheng_bejarano(
-    sys: DelaySystem, poles: Sequence[Any] | str | None = None, *, rate: Any = None, search: bool = True,
-    report: AssumptionsReport | None = None,
+    sys: DelaySystem, poles: Sequence[Any] | str | None = None, *, rate: Any = None, criterion: str | None = None,
+    search: bool = True, report: AssumptionsReport | None = None,
 ) -> DelayUIODesign:
     """Design the delay unknown-input observer of Zheng et al. (2015) (Steps 1–5, with (19′)/(22′)).
 
@@ -395,11 +400,17 @@ def design_zheng_bejarano(
         and ``(3, 2)``).  Default: ``l*`` poles at ``−α`` with α = ``rate``, or
         ``⌈‖A(1)‖∞⌉`` (:func:`~uio_ring.design.noise.default_rate`: not slower than
         the plant; repeated poles amplify noise less than spread ones).
-        ``"min-noise"``: the poles — and the design choices below — of least
-        peak-to-peak noise gain with every pole at least as fast as ``−rate``
-        (:func:`~uio_ring.design.noise.least_noise`; needs the system's ``h``).
+        ``"min-noise"``: the poles — and the design choices below, and a coupling of
+        the channels in ``G0`` that keeps the poles — of least noise gain with every
+        pole at least as fast as ``−rate`` (:func:`~uio_ring.design.noise.least_noise`:
+        pole patterns ``−α(1, q, q², …)`` on the first assemblies of each ``l*``, then a
+        Nelder–Mead search of the coupling from zero; needs the system's ``h``).
     rate
         The slowest decay rate α for the default poles and for ``"min-noise"``.
+    criterion
+        With ``"min-noise"``: ``"peak"`` (default) minimises the peak-to-peak gain of the
+        worst state, ``"h2"`` its H2 gain (refused with the reason when the H2 gain is
+        infinite for every candidate: a read-out ``H Λ(δ) y`` that feeds ``y`` through).
     search
         Try the variants of the choices below and keep the best (default); with
         ``False`` take the ring's Hermite transforms and reduced inverses only.
@@ -489,6 +500,9 @@ def design_zheng_bejarano(
             "the Zheng–Bejarano observer does not exist for this system: " + report.reason,
             report=report,
         )
+    from uio_ring.design.noise import check_criterion
+
+    check_criterion(criterion, poles)
     rho, Us = _candidate_Us(sys)
     if not search:
         Us = Us[:1]
@@ -498,7 +512,7 @@ def design_zheng_bejarano(
     if isinstance(poles, str):
         from uio_ring.design.noise import least_noise
 
-        return least_noise(sys, ranked, poles, rate=rate, assemble=_assemble, report=report)
+        return least_noise(sys, ranked, poles, rate=rate, criterion=criterion, assemble=_assemble, report=report)
     best = ranked[0]
     return _assemble(
         sys, best.steps12, best.Lam, index=best.index, F_stack=best.F_stack, O_left_inverse=best.O_left_inverse,
