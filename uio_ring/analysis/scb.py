@@ -57,6 +57,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 from uio_ring.analysis.canonical_form import canonical_form
@@ -483,7 +484,7 @@ class SpecialCoordinateBasis:
     def _q(self, M: PolyMatrix) -> QMatrix:
         return Q(M)
 
-    @property
+    @cached_property
     def A_s(self) -> PolyMatrix:
         """``Ā_s = Ā − B̄_0 C̄_0``: the state matrix with the feed-through eliminated (17a)."""
         return (self._q(self.A_bar) - Q(self.B_0) @ Q(self.C_0)).to_polymatrix()
@@ -776,7 +777,9 @@ def scb_certificate(scb: SpecialCoordinateBasis) -> Certificate:
     (p.1) normrank G = m_0 + m_d, (p.2) ``det(sI − A_a)`` is the invariant-zero
     polynomial of ``P(s)`` (Smith form), (p.3) (A_b, C_b) observable, (p.4)
     (A_d, B_d, C_d) strongly observable, (p.5) left invertible ⇔ n_c = 0, (p.6) the
-    ``x_a`` columns of ``Ts`` span ``V*``, (p.7) ``R* = {0}`` (no ``x_c``).
+    ``x_a`` columns of ``Ts`` span ``V*``, (p.7) ``R* = {0}`` (no ``x_c``).  The zeros are computed on
+    the transformed system: its Rosenbrock matrix is ``diag(Ts⁻¹, To⁻¹) P(s) diag(Ts, Ti)`` (a constant
+    unimodular equivalence once ``Ā = Ts⁻¹ A Ts`` etc. hold), so its invariant factors are those of ``P(s)``.
     """
     sys = scb.system
     M = constant_matrices(sys)
@@ -820,7 +823,9 @@ def scb_certificate(scb: SpecialCoordinateBasis) -> Certificate:
     checks.append(Check("Theorem 1: F_dd lower triangular as (24) (row i only in columns 2…q_j of chains j < i)",
                         not bad, bad or None))
     # Lemma 3
-    zeros = invariant_zeros(sys)
+    # P̄(s) = diag(Ts⁻¹, To⁻¹) P(s) diag(Ts, Ti) (identities checked above): the same invariant factors,
+    # computed on the sparse SCB form (the original's entries can be large)
+    zeros = invariant_zeros(DelaySystem(scb.A_bar, scb.B_bar, scb.C_bar, scb.D_bar))
     checks.append(Check("(p.1) normrank G(s) = m_0 + m_d", zeros.normal_rank - n == m0 + md,
                         None if zeros.normal_rank - n == m0 + md else f"normrank G = {zeros.normal_rank - n}"))
     zp, ap = zeros.polynomial, scb.invariant_zero_polynomial
