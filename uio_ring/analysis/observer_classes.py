@@ -18,8 +18,8 @@ The parts, as Table 1: ``x̂_a`` linear (asymptotic) when ``n_a > 0``; ``x̂_b``
 >>> from uio_ring import DelaySystem
 >>> rep = observer_options(DelaySystem("[[-2, 1, 0], [0, 0, 1], [0, 0, 0]]", "[[0], [0], [1]]",
 ...                                    "[[0, 1, 0]]", None))
->>> rep.holds, rep.convergence, rep.x_d
-(True, 'asymptotic', ('HOSMO (finite-time)', 'DBHO (finite-/fixed-time)'))
+>>> rep.holds, rep.convergence, rep.x_d[0]
+(True, 'asymptotic', 'HOSMO (finite-time)')
 """
 
 from __future__ import annotations
@@ -104,7 +104,8 @@ class ObserverOptions(Report):
         if self.holds:
             lines.append(f"convergence: {self.convergence}" + (
                 " (x_a converges at the rate of the invariant zeros)" if self.convergence == "asymptotic" else
-                " possible (nonlinear observers on x_b and x_d)"))
+                " possible (nonlinear observers on x_b and x_d; uio_ring's scb observer is linear on x_b, "
+                "hierarchical-sta and normal-form are finite-time)"))
             for part, choices in (("x_a", self.x_a), ("x_b", self.x_b), ("x_d", self.x_d)):
                 if choices:
                     lines.append(f"{part}: " + " or ".join(choices))
@@ -175,12 +176,12 @@ def observer_options(sys: DelaySystem) -> ObserverOptions:
             "dynamics x_a cannot be reconstructed, not even asymptotically", dims, scb, False, False, False, "none",
             zero_polynomial=zp)
     x_a = ("linear copy, asymptotic at the invariant zeros' rate",) if scb.n_a else ()
-    x_b = ("linear (asymptotic, assignable poles)", "CBHO (finite-/fixed-time)") if scb.n_b else ()
+    x_b = ("linear (asymptotic, assignable poles)", "CBHO (finite-/fixed-time; not built by uio_ring)") if scb.n_b else ()
     if not scb.n_d:
         x_d: tuple[str, ...] = ()
     elif all(k == 1 for k in scb.q):
         x_d = ("linear, exact (x̂_d = y_d)", "1-SMO (finite-time)")
     else:
-        x_d = ("HOSMO (finite-time)", "DBHO (finite-/fixed-time)")
+        x_d = ("HOSMO (finite-time)", "DBHO (finite-/fixed-time; not built by uio_ring)")
     return ObserverOptions(True, "", dims, scb, observable, True, star, "finite-time" if observable else "asymptotic",
                            x_a, x_b, x_d, zero_polynomial=zp)
