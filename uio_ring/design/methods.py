@@ -346,6 +346,8 @@ def _register_builtin() -> None:
                              "(the bound (45) of w_d is tight for a box)"),
                 MethodOption("gains", "rational_rows", "explicit differentiator gains per x_d chain, top row first "
                              "(default: Levant's, from the bounds)"),
+                MethodOption("reconstruct_input", "bool", "also estimate w (the design is made for [x; w] driven "
+                             "by w'; the bounds are then those of |w'|)"),
             ),
             delay_free_only=True,
         )

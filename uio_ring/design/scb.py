@@ -128,8 +128,11 @@ class SCBDesign(ObserverDesign):
     poles_b, L_b
         ``spec(A_b − L_b C_b)`` and the gain (n_b × p_b).
     input_ranges, Delta_d, kappa
-        The box of ``w``, the bounds (45) of ``w_d`` and the differentiator gains per
-        chain (top row first); empty for the linear ``x_d``.
+        The box of ``w`` (of ``w'`` with ``reconstruct_input``), the bounds (45) of ``w_d``
+        and the differentiator gains per chain (top row first); empty for the linear ``x_d``.
+    reconstruct_input
+        ``scb`` is the basis of the system of ``[x; w]`` driven by ``w'``
+        (:meth:`~uio_ring.DelaySystem.input_augmented`): the observer estimates ``w`` as states.
     """
 
     method: ClassVar[str] = "scb"
@@ -143,6 +146,7 @@ class SCBDesign(ObserverDesign):
     input_ranges: tuple[tuple[Fraction, Fraction], ...] | None
     Delta_d: tuple[Fraction, ...]
     kappa: tuple[tuple[Fraction, ...], ...]
+    reconstruct_input: bool = False
     options: ObserverOptions | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -197,8 +201,10 @@ class SCBDesign(ObserverDesign):
         ``x̂_d = y_d``), one Levant chain per ``x_d`` chain on ``σ_i = y_{d,i} − x̂_{d,i,1}``."""
         from uio_ring.numeric.build import injection_from_exact, model_from_exact
 
-        s, sysm = self.scb, self.system
+        s = self.scb
+        sysm = s.system  # the plant, or the plant of [x; w] with reconstruct_input
         n, n_y, n_u = sysm.n_x, sysm.n_y, sysm.n_u
+        n_x = self.system.n_x
         Ts, To_inv = Q(s.Ts), Q(s.To).inverse(name="To")
         Tsi = Ts.inverse(name="Ts")
         E = Q(sysm.E) if n_u else Q.zeros(n, 0)
@@ -229,9 +235,10 @@ class SCBDesign(ObserverDesign):
             Ebar = Q.vstack(Ebar.take_rows(range(nab)), Q.zeros(nd, n_u), cols=n_u)
         G_y = G @ To_inv
         G_u = Ebar - G_y @ Fk
+        W = Ts.take_rows(range(n_x, n)).to_polymatrix() if self.reconstruct_input else None
         return model_from_exact(
             F=F.to_polymatrix(), G_y=G_y.to_polymatrix(), G_u=G_u.to_polymatrix() if n_u else None,
-            X=Ts.to_polymatrix(), D_y=D_y, D_u=D_u, initial=initial.to_polymatrix(),
+            X=Ts.take_rows(range(n_x)).to_polymatrix(), W=W, D_y=D_y, D_u=D_u, initial=initial.to_polymatrix(),
             injection=injection, method=self.method, interpolation="linear" if injection else "cubic")
 
     def to_dict(self) -> dict[str, Any]:
@@ -244,6 +251,7 @@ class SCBDesign(ObserverDesign):
             "poles_b": [str(p) for p in self.poles_b], "L_b": matrix_to_data(self.L_b),
             "input_ranges": None if self.input_ranges is None else [[str(a), str(b)] for a, b in self.input_ranges],
             "Delta_d": [str(x) for x in self.Delta_d], "kappa": [[str(k) for k in ks] for ks in self.kappa],
+            "reconstruct_input": self.reconstruct_input,
         }
 
     def to_latex(self) -> str:
@@ -268,7 +276,8 @@ class SCBDesign(ObserverDesign):
 
     def __str__(self) -> str:
         s = self.scb
-        lines = [f"special coordinate basis observer (Tranninger et al. 2021): order {self.n_xi}",
+        lines = [f"special coordinate basis observer (Tranninger et al. 2021): order {self.n_xi}"
+                 + (" (state [x; w]: w is estimated)" if self.reconstruct_input else ""),
                  f"  (n_a, n_b, n_d) = ({s.n_a}, {s.n_b}, {s.n_d}), q = {s.q}, l = {s.l}"]
         if s.n_a:
             lines.append(f"  x_a: open-loop copy; error e_a' = A_a e_a, zeros of {s.invariant_zero_polynomial}")
@@ -304,6 +313,7 @@ def design_scb(
     input_bounds: Any = None,
     input_ranges: Any = None,
     gains: Sequence[Sequence[Any]] | None = None,
+    reconstruct_input: bool = False,
     report: ObserverOptions | None = None,
 ) -> SCBDesign:
     """An unknown-input observer in the special coordinate basis (Tranninger et al. 2021, Section 5).
@@ -326,6 +336,9 @@ def design_scb(
         observers): the bounds (45) of ``w_d`` and the gains of Theorem 2.
     gains
         Explicit gains per ``x_d`` chain (top row first) instead of Levant's.
+    reconstruct_input
+        Estimate ``w`` too: the design is made for the system of ``[x; w]`` driven by
+        ``w'`` (its chains are one longer), and the bounds are those of ``|w'|``.
     report
         The :func:`~uio_ring.analysis.observer_options` report, when computed already.
 
@@ -349,7 +362,8 @@ def design_scb(
     >>> des.Delta_d, des.n_xi
     ((Fraction(3, 1),), 3)
     """
-    rep = observer_options(sys) if report is None else report
+    model = sys.input_augmented() if reconstruct_input else sys
+    rep = observer_options(model) if report is None or reconstruct_input else report
     if not rep.holds:
         raise NotObservableError(f"no unknown-input observer exists: {rep.reason}", report=rep)
     s = rep.scb
@@ -368,13 +382,13 @@ def design_scb(
     if poles_b is None:
         from uio_ring.design.noise import default_rate
 
-        poles = tuple(Fraction(-default_rate(sys)) for _ in range(s.n_b))
+        poles = tuple(Fraction(-default_rate(model)) for _ in range(s.n_b))
     else:
         poles = tuple(exact_fraction(p, f"poles_b[{i}]") for i, p in enumerate(poles_b))
         if len(poles) != s.n_b:
             raise DimensionError(f"poles_b has {len(poles)} entries; the x_b part has n_b = {s.n_b} states "
                                  f"(chains l = {s.l})")
-    ranges = _ranges(input_bounds, input_ranges, sys.n_w)
+    ranges = _ranges(input_bounds, input_ranges, sys.n_w)  # of w, or of w' with reconstruct_input
     Delta: tuple[Fraction, ...] = ()
     kappa: tuple[tuple[Fraction, ...], ...] = ()
     if d_obs != "linear" and s.n_d:
@@ -397,4 +411,4 @@ def design_scb(
                 f"{float(k[-1]):.6g} vs {float(D):.6g}" for k, D in zip(kappa, Delta, strict=True)) + ")")
     return SCBDesign(system=sys, scb=s, b_observer=b_observer, d_observer=d_obs, poles_b=poles,
                      L_b=_luenberger_gain(s, poles).to_polymatrix(), input_ranges=ranges, Delta_d=Delta,
-                     kappa=kappa, options=rep)
+                     kappa=kappa, reconstruct_input=reconstruct_input, options=rep)

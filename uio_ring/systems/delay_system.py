@@ -290,6 +290,31 @@ class DelaySystem:
             known_input_names=self.known_input_names,
         )
 
+    def input_augmented(self) -> DelaySystem:
+        """The system of ``χ = [x; w]`` driven by ``w'`` (to estimate ``w`` as a state)::
+
+            χ' = [[A, B], [0, 0]] χ + [0; I] w' + [E; 0] u,    y = [C, D] χ + F u
+
+        >>> DelaySystem("[[0]]", "[[1]]", "[[1]]", "[[2]]").input_augmented().A
+        PolyMatrix([[0, 1], [0, 0]])
+        """
+        n, m, p, nu = self.n_x, self.n_w, self.n_y, self.n_u
+        Z, I = PolyMatrix.zeros, PolyMatrix.identity
+        w_names = tuple(self.unknown_input_names)
+        return DelaySystem(
+            PolyMatrix.vstack(PolyMatrix.hstack(self.A, self.B), Z(m, n + m)),
+            PolyMatrix.vstack(Z(n, m), I(m)),
+            PolyMatrix.hstack(self.C, self.D),
+            Z(p, m),
+            PolyMatrix.vstack(self.E, Z(m, nu)) if nu else None,
+            self.F if nu else None,
+            h=self.h,
+            state_names=tuple(self.state_names) + w_names,
+            output_names=self.output_names,
+            unknown_input_names=tuple(f"d{name}" for name in w_names),
+            known_input_names=self.known_input_names,
+        )
+
     # -- conversions ----------------------------------------------------------------
     def to_control(self) -> Any:
         """A python-control ``StateSpace`` of a delay-free system (inputs ``[w; u]``).

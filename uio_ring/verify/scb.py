@@ -39,6 +39,10 @@ def scb_design_certificate(d: Any) -> Certificate:
     def add(name: str, statement: str, fn: Any) -> None:
         checks.append(residual_check(name, statement, fn))
 
+    if d.reconstruct_input:
+        aug = d.system.input_augmented()
+        add("the basis is of the system of [x; w]", "χ = [x; w], χ' = [[A, B], [0, 0]] χ + [0; I] w', y = [C, D] χ",
+            lambda: {k: s.system.matrices()[k] - M for k, M in aug.matrices().items()})
     add("A_a Hurwitz", "the copy of the zero dynamics converges (strong detectability, (38))",
         lambda: None if is_hurwitz_polynomial(s.invariant_zero_polynomial) else
         f"det(sI − A_a) = {s.invariant_zero_polynomial} has a root with Re ≥ 0")

@@ -118,17 +118,12 @@ def reduced_model(sys: DelaySystem, *, reconstruct_input: bool = False) -> Norma
 
     Precondition: ``sys`` is delay-free (checked by ``constant_matrices``).
     """
-    M = constant_matrices(sys)
-    A, B, C, D, E, F = (M[k] for k in "ABCDEF")
     n, m, p, n_u = sys.n_x, sys.n_w, sys.n_y, sys.n_u
     Z, I = QMatrix.zeros, QMatrix.identity
+    # χ = [x; w] (Section 5.4): the new unknown input is w'
+    M = constant_matrices(sys.input_augmented() if reconstruct_input else sys)
+    A, B, C, D, E, F = (M[k] for k in "ABCDEF")
     if reconstruct_input:
-        # χ = [x; w]: A_χ = [[A, B], [0, 0]], B_χ = [0; I], C_χ = [C, D]; the new unknown input is w'
-        A = QMatrix.block([[A, B], [Z(m, n), Z(m, m)]])
-        C = QMatrix.hstack(C, D)
-        E = QMatrix.vstack(E, Z(m, n_u))
-        B = QMatrix.vstack(Z(n, m), I(m))
-        D = Z(p, m)
         state_map = QMatrix.hstack(I(n), Z(n, m))
         w_map: QMatrix | None = QMatrix.hstack(Z(m, n), I(m))
         n_m = n + m
