@@ -107,8 +107,10 @@ class STAGainReport(Report):
     def _detail_lines(self) -> list[str]:
         out = [f"bounds ‖w‖ ≤ {self.w_bound}, ‖x − x̃‖ ≤ {self.e_bound}, θ = {self.theta}"]
         for lv in self.levels:
-            out.append(f"level {lv.level}: β ≤ {float(lv.beta):.4g}, α = {lv.alpha} (α/β = {lv.alpha_margin:.3g}), "
-                       f"λ = {lv.lam} (λ/λ_min = {lv.lambda_margin(self.theta):.3g})"
+            lam = (f"λ/λ_min = {lv.lambda_margin(self.theta):.4g}" if lv.alpha > lv.beta
+                   else "no λ suffices while α ≤ β")
+            out.append(f"level {lv.level}: β ≤ {float(lv.beta):.4g}, α = {lv.alpha} (α/β = {lv.alpha_margin:.4g}), "
+                       f"λ = {lv.lam} ({lam})"
                        + ("" if lv.holds else " — not satisfied"))
         return out
 
