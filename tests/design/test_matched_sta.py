@@ -211,3 +211,12 @@ def test_refusals_and_auto():
     assert res.method == "hierarchical-sta" and "matched-sta" not in res.method
     d = design_with("matched-sta", P.example2(), poles=[-3, -4], w_gains=[80, 70])
     assert d.w_gains == (80, 70) and d.certificate().ok
+
+
+def test_design_file_round_trip(design2, tmp_path):
+    from uio_ring.spec.designs import load_design, save_design
+
+    paths = save_design(design2, tmp_path / "ex2")
+    for p in paths:
+        again = load_design(p)
+        assert again == design2 and again.reduction.P == design2.reduction.P and again.certificate().ok

@@ -200,6 +200,8 @@ class HierarchicalSTADesign(ObserverDesign):
                  "  K =\n    " + str(self.K).replace("\n", "\n    ")]
         for k, (lam, alpha) in enumerate(self.gains, start=1):
             lines.append(f"  level {k}: λ = {lam}, α = {alpha}, {self.S[k - 1].rows} component(s)")
+        if self.gain_report is not None:
+            lines.append("  " + str(self.gain_report).replace("\n", "\n  "))
         return "\n".join(lines)
 
     def to_latex(self) -> str:

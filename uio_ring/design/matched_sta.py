@@ -30,7 +30,7 @@ gives the least-squares estimate (49)/(51) from ``x̂`` and ``ŵ``.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, ClassVar
 
@@ -74,7 +74,7 @@ class MatchedSTADesign(ObserverDesign):
     method: ClassVar[str] = "matched-sta"
 
     system: DelaySystem
-    reduction: MatchedReduction = field(compare=False)
+    reduction: MatchedReduction
     K: PolyMatrix
     M_l_pinv: PolyMatrix
     gains: tuple[tuple[Fraction, Fraction], ...]
