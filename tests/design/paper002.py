@@ -28,3 +28,34 @@ def w(t):
 
 def u(t):
     return 1.5 * np.sin(2 * np.asarray(t, dtype=float))
+
+
+# Example 2 (Section 3): parametric uncertainty w = ΔA G x, G = I, F = 0, matching holds.
+A2 = "[[0, -4, 5.5], [1, -5, 4.5], [1, -1, -1]]"
+B2 = "[[1], [0], [1]]"  # the paper's D
+C2 = "[[1, 2, 1], [2, 1, 1]]"
+E2 = "[[1], [1], [1]]"  # the paper's B
+DELTA_A = np.array([[0.1, -0.15, 0.2]])
+X0_2 = [1.0, -1.0, 0.5]
+GAINS_2 = [[30, 20]]  # (λ1, α1) = (30, 20), the paper's
+# printed in the paper (3 decimals, truncated): P, P⁻¹, A11, A12, B1, C̄ in its orthonormal bases
+P_PRINTED = [[0, 1, 0], [-0.7071, 0, 0.7071], [0.6154, 0.5385, 0.3846]]
+P_INV_PRINTED = [[-0.538, -0.543, 1], [1, 0, 0], [-0.538, 0.870, 1]]
+A11_PRINTED = [[-7.961, 3.372], [4.215, -4.384]]
+A12_PRINTED = [[5.5], [-3.889]]
+B1_PRINTED = [[1], [0]]
+C_BAR_PRINTED = [[-1.109, -0.392]]
+
+
+def example2() -> DelaySystem:
+    return DelaySystem(A2, B2, C2, None, E=E2)
+
+
+def example2_true_plant() -> DelaySystem:
+    """The plant with its uncertainty closed: x' = (A + B ΔA G) x + E u (w = ΔA x enters through B)."""
+    A = np.array([[0, -4, 5.5], [1, -5, 4.5], [1, -1, -1]]) + np.array([[1], [0], [1]]) @ DELTA_A
+    return DelaySystem(A.tolist(), B2, C2, None, E=E2)
+
+
+def u2(t):
+    return 4 * np.sin(np.asarray(t, dtype=float))

@@ -62,3 +62,26 @@ def test_streaming_equals_the_record():
 def test_chains_must_read_earlier_chains_only():
     with pytest.raises(SimulationError, match="later chain 2"):
         cascade(order_ok=False).stepper(1e-3)
+
+
+def test_implicit_step_solves_the_inclusion_of_every_chain():
+    """The closed-form step of the super-twisting chains against the inclusion itself: with
+    ``l`` returned, each chain's σ at the new time, ``σ = meas + R (lin + Kl l)``, and its terms
+    satisfy ``l_top = κ1 ⌈σ⌋^½`` and ``l_sign ∈ κ2 Sign(σ)`` (the set-valued sign: any value of
+    [−κ2, κ2] when σ = 0) — for arguments that slide and that do not."""
+    rng = np.random.default_rng(5)
+    st = cascade().stepper(1e-2)
+    inj = st.inj
+    for scale in (1e-4, 1e-2, 1.0, 50.0):
+        for _ in range(20):
+            lin, meas = rng.normal(size=4) * scale, rng.normal(size=2) * scale
+            l = np.linalg.solve(inj.Kl, inj.implicit(lin, meas) - lin)
+            sigma = meas + inj.R @ (lin + inj.Kl @ l)
+            for j, s in enumerate(inj.starts):
+                (k1, k2), sg = inj.kap[j], sigma[j]
+                assert abs(l[s] ** 2 - k1**2 * abs(sg)) <= 1e-9 * k1**2 * max(1, scale)  # |l_top| = κ1 |σ|^½
+                assert l[s] * sg >= 0 or abs(l[s]) < 1e-6
+                if abs(sg) > 1e-9 * max(1, scale):
+                    assert l[s + 1] == pytest.approx(k2 * np.sign(sg), abs=1e-9)
+                else:
+                    assert abs(l[s + 1]) <= k2 * (1 + 1e-12)

@@ -29,7 +29,7 @@ Luenberger error.  ``l = 1`` needs no sliding mode: ``x = M_1^+ D^⊥ (y − F u
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any, ClassVar
 
@@ -43,7 +43,7 @@ from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["HierarchicalSTADesign", "design_hierarchical_sta", "DEFAULT_GAINS"]
+__all__ = ["HierarchicalSTADesign", "design_hierarchical_sta", "DEFAULT_GAINS", "exact_gain_matrix"]
 
 #: (λ, α) of every level when none are given: the values of the paper's Example 1.
 DEFAULT_GAINS = (Fraction(15), Fraction(10))
@@ -80,6 +80,15 @@ class HierarchicalSTADesign(ObserverDesign):
     S: tuple[PolyMatrix, ...]
     gains: tuple[tuple[Fraction, Fraction], ...]
     molinari: MolinariSequence | None = field(default=None, compare=False)
+    gain_report: Any = field(default=None, compare=False)
+
+    def gain_condition(self, *, w_bound: Any, e_bound: Any, theta: Any = None) -> Any:
+        """The sufficient condition (16)/(21) on the gains for ``‖w‖ ≤ w_bound`` and
+        ``‖x − x̃‖ ≤ e_bound``, level by level with its margins
+        (:func:`~uio_ring.design.sta_gains.sta_gain_condition`)."""
+        from uio_ring.design.sta_gains import sta_gain_condition
+
+        return sta_gain_condition(self, w_bound=w_bound, e_bound=e_bound, theta=theta)
 
     @property
     def l(self) -> int:  # noqa: E743 - the paper's name
@@ -191,6 +200,8 @@ class HierarchicalSTADesign(ObserverDesign):
                  "  K =\n    " + str(self.K).replace("\n", "\n    ")]
         for k, (lam, alpha) in enumerate(self.gains, start=1):
             lines.append(f"  level {k}: λ = {lam}, α = {alpha}, {self.S[k - 1].rows} component(s)")
+        if self.gain_report is not None:
+            lines.append("  " + str(self.gain_report).replace("\n", "\n  "))
         return "\n".join(lines)
 
     def to_latex(self) -> str:
@@ -203,7 +214,7 @@ class HierarchicalSTADesign(ObserverDesign):
             "K": matrix_to_data(self.K), "M": [matrix_to_data(M) for M in self.M],
             "S": [matrix_to_data(S) for S in self.S],
             "gains": [[str(g) for g in ga] for ga in self.gains],
-        }
+        } | ({} if self.gain_report is None else {"gain_condition": self.gain_report.to_dict()})
 
 
 def _char_poly(M: PolyMatrix) -> Any:
@@ -250,19 +261,30 @@ def _ackermann(A: PolyMatrix, C: PolyMatrix, poles: Sequence[Fraction]) -> PolyM
     return best[1]
 
 
-def _gain_pairs(gains: Any, levels: int) -> tuple[tuple[Fraction, Fraction], ...]:
+def _gain_pairs(gains: Any, levels: int, *, default: tuple[Fraction, Fraction] = DEFAULT_GAINS,
+                name: str = "gains") -> tuple[tuple[Fraction, Fraction], ...]:
+    """``[[λ, α], …]`` read exactly, one pair per level (``default`` for every level when None)."""
     if gains is None:
-        return tuple(DEFAULT_GAINS for _ in range(levels))
+        return tuple(default for _ in range(levels))
     rows = list(gains)
     if len(rows) != levels:
-        raise DimensionError(f"gains has {len(rows)} level(s); the observer has {levels} (l − 1)")
+        raise DimensionError(f"{name} has {len(rows)} level(s); the observer has {levels} (l − 1)")
     out = []
     for k, g in enumerate(rows):
-        pair = tuple(exact_fraction(x, f"gains[{k}][{i}]") for i, x in enumerate(g))
+        pair = tuple(exact_fraction(x, f"{name}[{k}][{i}]") for i, x in enumerate(g))
         if len(pair) != 2 or not all(x > 0 for x in pair):
-            raise DomainError(f"gains[{k}] = [{', '.join(str(x) for x in g)}]: expected two positive values [λ, α]")
+            raise DomainError(f"{name}[{k}] = [{', '.join(str(x) for x in g)}]: expected two positive values [λ, α]")
         out.append((pair[0], pair[1]))
     return tuple(out)
+
+
+def exact_gain_matrix(K: Any, shape: tuple[int, int], name: str = "K") -> PolyMatrix:
+    """A gain given as a PolyMatrix or as rows of exact numbers, checked against ``shape``."""
+    Km = K if isinstance(K, PolyMatrix) else PolyMatrix([[str(x) if not isinstance(x, str) else x for x in r]
+                                                          for r in K])
+    if Km.shape != shape:
+        raise DimensionError(f"{name} is {Km.rows}×{Km.cols}; expected {shape[0]}×{shape[1]}")
+    return Km
 
 
 def design_hierarchical_sta(
@@ -273,6 +295,9 @@ def design_hierarchical_sta(
     gains: Any = None,
     rate: Any = None,
     criterion: str | None = None,
+    w_bound: Any = None,
+    e_bound: Any = None,
+    theta: Any = None,
     report: MolinariSequence | None = None,
 ) -> HierarchicalSTADesign:
     """Design the hierarchical super-twisting observer (Algorithm 2 of the paper).
@@ -299,6 +324,12 @@ def design_hierarchical_sta(
         every level (the values of the paper's Example 1).  The paper's sufficient
         condition on them is conservative (its own example violates it and converges):
         check convergence in simulation.
+    w_bound, e_bound, theta
+        Bounds ``‖w‖ ≤ w_bound`` and ``‖x − x̃‖ ≤ e_bound`` (after the Luenberger transient)
+        and ``θ ∈ (0, 1)`` (default 1/10): without ``gains``, the gains are computed from the
+        sufficient condition (16)/(21) (:func:`~uio_ring.design.sta_gains.gains_from_bounds`);
+        with ``gains``, they are checked against it.  Either way ``design.gain_report`` says
+        whether the condition holds and with which margins.
     report
         :func:`~uio_ring.analysis.molinari.molinari_sequence` of ``sys`` when computed already.
 
@@ -321,17 +352,15 @@ def design_hierarchical_sta(
         if K is not None:
             raise DomainError("give K or poles, not both")
         alpha, crit = read_noise_options(sys, poles, rate, criterion)
-        return search_poles(lambda pat: design_hierarchical_sta(sys, poles=pat, gains=gains, report=seq), n,
+        return search_poles(lambda pat: design_hierarchical_sta(sys, poles=pat, gains=gains, w_bound=w_bound,
+                                                                 e_bound=e_bound, theta=theta, report=seq), n,
                             rate=alpha, criterion=crit, model=lambda d: d.linear_model())[1]
     if rate is not None or criterion is not None:
         raise DomainError("rate and criterion apply to poles='min-noise' only")
     if K is not None:
-        Km = K if isinstance(K, PolyMatrix) else PolyMatrix([[str(x) if not isinstance(x, str) else x for x in r]
-                                                              for r in K])
-        if Km.shape != (n, p):
-            raise DimensionError(f"K is {Km.rows}×{Km.cols}; expected {n}×{p}")
         if poles is not None:
             raise DomainError("give K or poles, not both")
+        Km = exact_gain_matrix(K, (n, p))
     elif poles is None and is_hurwitz_polynomial(_char_poly(A)):
         Km = PolyMatrix.zeros(n, p)
     else:
@@ -346,7 +375,16 @@ def design_hierarchical_sta(
     S = [seq.T_b[k] for k in range(1, l)]
     if S:
         S[-1] = M_l_pinv @ S[-1]
-    return HierarchicalSTADesign(
+    des = HierarchicalSTADesign(
         system=sys, M=seq.M, T_b=seq.T_b, M_l_pinv=M_l_pinv, K=Km, S=tuple(S),
         gains=_gain_pairs(gains, len(S)), molinari=seq,
     )
+    if w_bound is None:
+        if e_bound is not None or theta is not None:
+            raise DomainError("e_bound and theta go with w_bound (the gain condition (16)/(21))")
+        return des
+    from uio_ring.design.sta_gains import gains_from_bounds, sta_gain_condition
+
+    if gains is None:
+        des = replace(des, gains=gains_from_bounds(des, w_bound=w_bound, e_bound=e_bound, theta=theta))
+    return replace(des, gain_report=sta_gain_condition(des, w_bound=w_bound, e_bound=e_bound, theta=theta))

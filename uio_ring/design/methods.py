@@ -197,12 +197,14 @@ def design_auto(sys: DelaySystem, **options: Any) -> AutoResult:
 def _register_builtin() -> None:
     from uio_ring.analysis.assumptions import check_assumptions
     from uio_ring.analysis.high_gain_applicability import high_gain_applicable
+    from uio_ring.analysis.matched_reduction import matched_reduction
     from uio_ring.analysis.molinari import molinari_sequence
     from uio_ring.analysis.normal_form_applicability import normal_form_applicable
     from uio_ring.analysis.observer_classes import observer_options
     from uio_ring.design.delay_uio_design import DelayUIODesign
     from uio_ring.design.hierarchical_sta import HierarchicalSTADesign, design_hierarchical_sta
     from uio_ring.design.high_gain import HighGainDesign, design_high_gain
+    from uio_ring.design.matched_sta import MatchedSTADesign, design_matched_sta
     from uio_ring.design.noise import CRITERIA
     from uio_ring.design.normal_form import NormalFormDesign, design_normal_form
     from uio_ring.design.scb import B_OBSERVERS, D_OBSERVERS, SCBDesign, design_scb
@@ -210,6 +212,7 @@ def _register_builtin() -> None:
     from uio_ring.verify.delay_uio import delay_uio_certificate
     from uio_ring.verify.hierarchical_sta import hierarchical_sta_certificate
     from uio_ring.verify.high_gain import high_gain_certificate
+    from uio_ring.verify.matched_sta import matched_sta_certificate
     from uio_ring.verify.normal_form import normal_form_certificate
     from uio_ring.verify.scb import scb_design_certificate
 
@@ -289,6 +292,35 @@ def _register_builtin() -> None:
                              "infinite for every candidate)", choices=CRITERIA),
                 MethodOption("gains", "rational_rows", "[lambda, alpha] of the super-twisting terms per level "
                              "(l - 1 levels; default [15, 10])"),
+                MethodOption("w_bound", "rational", "a bound of ||w||: without gains, the gains of the sufficient "
+                             "condition (16)/(21); with gains, a check of it (needs e_bound)", nonnegative=True),
+                MethodOption("e_bound", "rational", "a bound of ||x - x_tilde|| after the Luenberger transient, "
+                             "for w_bound", nonnegative=True),
+                MethodOption("theta", "rational", "theta in (0, 1) of the gain condition (default 1/10)"),
+            ),
+            delay_free_only=True,
+        )
+    )
+    register_method(
+        DesignMethod(
+            name="matched-sta",
+            summary="reduced-order super-twisting observer with reconstruction of w (Bejarano, Fridman & "
+            "Poznyak 2007, Section 3); delay-free, strongly observable, D = 0 and rank C B = rank B < n_y "
+            "(matching)",
+            design_class=MatchedSTADesign,
+            check=matched_reduction,
+            design=design_matched_sta,
+            certificate=matched_sta_certificate,
+            preview=_preview_matched_sta,
+            options=(
+                MethodOption("K", "rational_rows", "Luenberger gain of the w-free part, (n_x - n_w) x (n_y - n_w), "
+                             "A11 - K C_bar Hurwitz (default: 0 when A11 is Hurwitz, else the gain placing poles)"),
+                MethodOption("poles", "rationals", "n_x - n_w exact rationals: spec(A11 - K C_bar) (default -1, "
+                             "-2, ... when A11 is not Hurwitz)"),
+                MethodOption("gains", "rational_rows", "[lambda, alpha] of the super-twisting terms per level "
+                             "(l - 1 levels; default [30, 20])"),
+                MethodOption("w_gains", "rationals", "[lambda, alpha] of the loop that reconstructs w "
+                             "(default [60, 60]; alpha above a bound of |w'|)"),
             ),
             delay_free_only=True,
         )
@@ -371,6 +403,16 @@ def _preview_hierarchical_sta(sys: DelaySystem) -> str:
     seq = molinari_sequence(sys)
     return (f"l = {seq.l}: {max((seq.l or 1) - 1, 0)} super-twisting level(s); gains takes "
             f"{max((seq.l or 1) - 1, 0)} pair(s) [lambda, alpha]")
+
+
+def _preview_matched_sta(sys: DelaySystem) -> str:
+    from uio_ring.analysis.matched_reduction import matched_reduction
+
+    red = matched_reduction(sys)
+    levels = max((red.l or 1) - 1, 0)
+    return (f"n - q = {sys.n_x - sys.n_w}, l = {red.l}: {levels} super-twisting level(s) and one loop "
+            f"reconstructing w; gains takes {levels} pair(s) [lambda, alpha], K is "
+            f"{sys.n_x - sys.n_w} x {sys.n_y - sys.n_w}")
 
 
 def _preview_zheng_bejarano(sys: DelaySystem) -> str:

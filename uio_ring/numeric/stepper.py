@@ -107,6 +107,14 @@ def solve_chain(a: float, coef: list[float], s0: float, mu: int) -> tuple[float,
     return math.copysign(s**mu, a), math.copysign(1.0, a)
 
 
+def _as_index(idx: np.ndarray) -> Any:
+    """A slice for evenly spaced increasing indices (a view, no gather), else the array."""
+    if len(idx) == 1 or (len(idx) > 1 and np.all(np.diff(idx) == idx[1] - idx[0]) and idx[1] > idx[0]):
+        step = int(idx[1] - idx[0]) if len(idx) > 1 else 1
+        return slice(int(idx[0]), int(idx[-1]) + 1, step)
+    return idx
+
+
 def _finite(a: np.ndarray, name: str) -> None:
     bad = ~np.isfinite(a)
     if bad.any():
@@ -179,7 +187,7 @@ class _Injection:
 
     def _layers(self, scale: float) -> list[tuple[np.ndarray, list[int]]]:
         """Consecutive chains that do not see each other, solved together: ``(index array of
-        the chains of length 2 (closed form, vectorised), other chains (one at a time))``."""
+        the chains of length 2 (closed form, one pass), other chains (one at a time))``."""
         out: list[list[int]] = []
         for j in range(len(self.starts)):
             cur = out[-1] if out else None
@@ -194,13 +202,20 @@ class _Injection:
         for group in out:
             pairs = np.array([j for j in group if self.mu[j] == 2], dtype=int)
             layers.append((pairs, [j for j in group if self.mu[j] != 2]))
-        if any(len(p) for p, _ in layers):
-            self._c1 = np.array([c[0] if len(c) else 0.0 for c in self.coef])
-            self._s0 = np.array(self.s0)
-            self._k_top = np.array([k[0] for k in self.kap])
-            self._k_sign = np.array([k[-1] for k in self.kap])
-            self._st = np.array(self.starts)
+        self._pair_tables = [self._pair_table(pairs, first=i == 0) for i, (pairs, _) in enumerate(layers)]
         return layers
+
+    def _pair_table(self, idx: np.ndarray, first: bool) -> tuple[Any, ...] | None:
+        """Per-step constants of one layer's super-twisting chains: where their σ and their
+        two injected terms sit (slices when evenly spaced: no gather) and their coefficients.
+        ``first``: no chain before the layer, so its σ needs no ``RK lvec`` term."""
+        if not len(idx):
+            return None
+        st = np.array([self.starts[j] for j in idx])
+        c1 = np.array([self.coef[j][0] for j in idx])
+        return (_as_index(idx), None if first else self.RK[idx], c1.tolist(), (c1 * c1).tolist(),
+                [self.s0[j] for j in idx], _as_index(st), _as_index(st + 1),
+                (0.5 * np.array([self.kap[j][0] for j in idx])).tolist(), [self.kap[j][1] for j in idx])
 
     def measured(self, y: np.ndarray, u: np.ndarray) -> np.ndarray:
         out = self.Sy @ y
@@ -222,26 +237,27 @@ class _Injection:
         layer, the chains of length 2 (super-twisting) by their closed form at once."""
         lvec = np.zeros(self.n)
         base = meas_next + self.R @ lin  # σ with no injection at all
-        for pairs, others in self.layers:
-            if len(pairs):
-                a = base[pairs] + self.RK[pairs] @ lvec
-                self._solve_pairs(pairs, a, lvec)
+        for (_, others), table in zip(self.layers, self._pair_tables, strict=True):
+            if table is not None:
+                # chains of length 2 (super-twisting), closed form: s = |σ|^½ solves s² + c1 s = |a| − s0
+                # (σ = 0 while |a| ≤ s0: sliding, the sign term's value is a/s0).  Scalar floats: for the
+                # few chains of a layer, cheaper per step than array calls (same numbers)
+                at, RKl, c1, c1sq, s0, st, st1, k_half, k_sign = table
+                a = base[at] if RKl is None else base[at] + RKl @ lvec
+                tops, sgs = [], []
+                for aj, c1j, c1sqj, s0j, khj, ksj in zip(a.tolist(), c1, c1sq, s0, k_half, k_sign, strict=True):
+                    mag = abs(aj)
+                    if mag > s0j:
+                        tops.append(khj * math.copysign(math.sqrt(c1sqj + 4.0 * (mag - s0j)) - c1j, aj))
+                        sgs.append(ksj * (aj / mag))
+                    else:  # sliding: σ = 0, the sign term takes the value a/s0 ∈ [−1, 1]
+                        tops.append(0.0)
+                        sgs.append(ksj * (aj / s0j))
+                lvec[st] = tops
+                lvec[st1] = sgs
             for j in others:
                 self._solve_one(j, float(base[j] + self.RK[j] @ lvec), lvec)
         return lin + self.Kl @ lvec
-
-    def _solve_pairs(self, idx: np.ndarray, a: np.ndarray, lvec: np.ndarray) -> None:
-        """Chains of length 2: ``σ + c1 ⌈σ⌋^½ + s0 sign σ ∋ a`` in closed form (``s = |σ|^½``
-        solves ``s² + c1 s = |a| − s0``); fills their entries of ``lvec``."""
-        c1, s0 = self._c1[idx], self._s0[idx]
-        excess = np.abs(a) - s0
-        sliding = excess <= 0.0
-        s = np.where(sliding, 0.0, (-c1 + np.sqrt(c1 * c1 + 4.0 * np.maximum(excess, 0.0))) / 2.0)
-        sgn = np.sign(a)
-        sg = np.where(sliding, a / s0, sgn)
-        st = self._st[idx]
-        lvec[st] = self._k_top[idx] * s * sgn  # κ ⌈σ⌋^½ with |σ|^½ = s
-        lvec[st + 1] = self._k_sign[idx] * sg
 
     def _solve_one(self, j: int, a: float, lvec: np.ndarray) -> None:
         s, m = self.starts[j], self.mu[j]
