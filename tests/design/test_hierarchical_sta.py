@@ -82,9 +82,9 @@ def test_pole_placed_gain_is_exact_and_converges(example1):
     poles = ["-2", "-2.5", "-3", "-3.5", "-4"]
     des = design_hierarchical_sta(example1, poles=poles, gains=P.GAINS)
     assert des.certificate().ok
-    from uio_ring.design.hierarchical_sta import _char_poly
+    from uio_ring.ring.charpoly import charpoly
 
-    char = _char_poly(example1.A - des.K @ example1.C)
+    char = charpoly(example1.A - des.K @ example1.C)
     expected = PolyMatrix("[[(s + 2)*(s + 5/2)*(s + 3)*(s + 7/2)*(s + 4)]]", var="s")[0, 0]
     assert char == expected  # exactly the requested spectrum
     r = simulate_observer(des, t_final=4.0, dt=1e-3, w=P.w, u=P.u, x0=P.X0)

@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from uio_ring import DelaySystem, PolyMatrix, simulate, simulate_observer
 from uio_ring.analysis.matched_reduction import matched_reduction
 from uio_ring.analysis.molinari import molinari_sequence
-from uio_ring.design.hierarchical_sta import _char_poly
+from uio_ring.ring.charpoly import charpoly
 from uio_ring.design.matched_sta import design_matched_sta
 from uio_ring.design.methods import design_auto, design_with
 from uio_ring.errors import NotObservableError
@@ -63,7 +63,7 @@ def test_reduction_of_example_2_is_exact(red2):
     assert red2.B1 == PolyMatrix("[[1], [0]]") and red2.B2 == PolyMatrix("[[20/13]]")
     assert red2.C_bar == PolyMatrix("[[-2, -1/2]]")
     # basis-independent: eig(A11) = {−2, −269/26}, exactly
-    assert _char_poly(red2.A11) == s_poly("(s + 2)*(s + 269/26)")
+    assert charpoly(red2.A11) == s_poly("(s + 2)*(s + 269/26)")
 
 
 def test_the_papers_printed_matrices_are_the_same_up_to_its_orthonormal_bases(red2):
@@ -86,12 +86,12 @@ def test_structural_identities_of_the_reduction(red2):
     sys = P.example2()
     Pi = PolyMatrix.identity(3) - sys.B @ red2.CB_pinv @ sys.C
     assert red2.P @ Pi @ red2.P_inv == PolyMatrix("[[1, 0, 0], [0, 1, 0], [0, 0, 0]]")
-    assert _char_poly(Pi @ sys.A) == s_poly("s*(s + 2)*(s + 269/26)")
+    assert charpoly(Pi @ sys.A) == s_poly("s*(s + 2)*(s + 269/26)")
 
 
 def test_certificate_and_its_failure(design2):
     assert design2.certificate().ok
-    assert _char_poly(design2.reduction.A11 - design2.K @ design2.reduction.C_bar) == s_poly("(s + 3)*(s + 4)")
+    assert charpoly(design2.reduction.A11 - design2.K @ design2.reduction.C_bar) == s_poly("(s + 3)*(s + 4)")
     import dataclasses
 
     bad = dataclasses.replace(design2, K=PolyMatrix("[[10], [0]]"))  # trace of A11 − K C̄ > 0
@@ -105,7 +105,7 @@ def test_the_true_closed_system_is_unstable():
     positive root (≈ 0.235); w = ΔA x is bounded only on a finite horizon."""
     sys = P.example2()
     dA = PolyMatrix("[[1/10, -3/20, 1/5]]")
-    assert _char_poly(sys.A + sys.B @ dA) == s_poly("(s + 2)*(40*s**2 + 148*s - 37)/40")
+    assert charpoly(sys.A + sys.B @ dA) == s_poly("(s + 2)*(40*s**2 + 148*s - 37)/40")
     root = (-148 + math.sqrt(148**2 + 4 * 40 * 37)) / 80
     assert 0.235 < root < 0.2351
 

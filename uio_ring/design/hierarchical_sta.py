@@ -38,6 +38,7 @@ from uio_ring.analysis.strong_observability import is_hurwitz_polynomial
 from uio_ring.design.base import ObserverDesign, matrix_to_data
 from uio_ring.errors import DimensionError, DomainError, NotObservableError
 from uio_ring.ring.certificate import Certificate
+from uio_ring.ring.charpoly import charpoly
 from uio_ring.ring.inverse import left_inverse
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
@@ -217,13 +218,6 @@ class HierarchicalSTADesign(ObserverDesign):
         } | ({} if self.gain_report is None else {"gain_condition": self.gain_report.to_dict()})
 
 
-def _char_poly(M: PolyMatrix) -> Any:
-    """``det(s I − M)`` of a constant matrix, exactly (a polynomial in s)."""
-    n = M.rows
-    rows = [[("s - " if i == j else "-") + f"({x})" for j, x in enumerate(row)] for i, row in enumerate(M.tolist())]
-    return PolyMatrix(rows, var="s", shape=(n, n)).det()
-
-
 def _ackermann(A: PolyMatrix, C: PolyMatrix, poles: Sequence[Fraction]) -> PolyMatrix:
     """An exact ``K`` with ``spec(A − K C) = poles``: Ackermann's formula on one combined
     output ``c = vᵀ C`` with ``(c, A)`` observable, ``K = p(A) O_c⁻¹ e_n vᵀ``, for ``v`` among
@@ -361,7 +355,7 @@ def design_hierarchical_sta(
         if poles is not None:
             raise DomainError("give K or poles, not both")
         Km = exact_gain_matrix(K, (n, p))
-    elif poles is None and is_hurwitz_polynomial(_char_poly(A)):
+    elif poles is None and is_hurwitz_polynomial(charpoly(A)):
         Km = PolyMatrix.zeros(n, p)
     else:
         vals = [exact_fraction(x, f"poles[{i}]") for i, x in enumerate(poles)] if poles is not None else \

@@ -37,9 +37,10 @@ from typing import Any, ClassVar
 from uio_ring.analysis.matched_reduction import MatchedReduction, left_pinv, matched_reduction
 from uio_ring.analysis.strong_observability import is_hurwitz_polynomial
 from uio_ring.design.base import ObserverDesign, matrix_to_data
-from uio_ring.design.hierarchical_sta import _ackermann, _char_poly, _gain_pairs, exact_gain_matrix
+from uio_ring.design.hierarchical_sta import _ackermann, _gain_pairs, exact_gain_matrix
 from uio_ring.errors import DimensionError, DomainError, NotObservableError
 from uio_ring.ring.certificate import Certificate
+from uio_ring.ring.charpoly import charpoly
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
 from uio_ring.systems.delay_system import DelaySystem
@@ -263,7 +264,7 @@ def design_matched_sta(
         if poles is not None:
             raise DomainError("give K or poles, not both")
         Km = exact_gain_matrix(K, (m, pc), "K")
-    elif poles is None and is_hurwitz_polynomial(_char_poly(red.A11)):
+    elif poles is None and is_hurwitz_polynomial(charpoly(red.A11)):
         Km = PolyMatrix.zeros(m, pc)
     else:
         vals = [exact_fraction(x, f"poles[{i}]") for i, x in enumerate(poles)] if poles is not None else \

@@ -23,7 +23,7 @@ def hierarchical_sta_certificate(d: Any) -> Certificate:
     ``M_{k+1} = T_{k,b} [M_k A; C]`` (the unknown input is annihilated at every level);
     ``rank M_l = n``; ``M_l^+ M_l = I``; the levels' ``S_k``; ``A − K C`` Hurwitz (Routh)."""
     from uio_ring.analysis.strong_observability import is_hurwitz_polynomial
-    from uio_ring.design.hierarchical_sta import _char_poly
+    from uio_ring.ring.charpoly import charpoly
 
     sys = d.system
     A, B, C, D = sys.A, sys.B, sys.C, sys.D
@@ -49,7 +49,7 @@ def hierarchical_sta_certificate(d: Any) -> Certificate:
         want = d.T_b[k] if k < len(d.S) else d.M_l_pinv @ d.T_b[k]
         add(f"S_{k}", "T_{k,b} (the last level: M_l^+ T_{l−1,b})", lambda S=S, want=want: {"S − want": S - want})
     add("A − K C Hurwitz", "the Luenberger part converges (exact Routh test)",
-        lambda: None if is_hurwitz_polynomial(_char_poly(A - d.K @ C)) else "A − K C has a root with Re ≥ 0")
+        lambda: None if is_hurwitz_polynomial(charpoly(A - d.K @ C)) else "A − K C has a root with Re ≥ 0")
     add("gains positive", "λ_k > 0, α_k > 0 on every level",
         lambda: None if all(g > 0 for pair in d.gains for g in pair) else "a gain is not positive")
     return Certificate("hierarchical super-twisting observer (Bejarano, Fridman & Poznyak 2007)", tuple(checks))

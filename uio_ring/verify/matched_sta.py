@@ -27,7 +27,7 @@ def matched_sta_certificate(d: Any) -> Certificate:
     ``M_k = [C̄; …; C̄ A11^{k−1}]`` with ``rank M_l = n − q``; ``M_l^+ M_l = I``;
     ``A11 − K C̄`` Hurwitz (Routh); positive gains."""
     from uio_ring.analysis.strong_observability import is_hurwitz_polynomial
-    from uio_ring.design.hierarchical_sta import _char_poly
+    from uio_ring.ring.charpoly import charpoly
 
     sys, red = d.system, d.reduction
     A, B, C, E = sys.A, sys.B, sys.C, sys.E
@@ -73,7 +73,7 @@ def matched_sta_certificate(d: Any) -> Certificate:
         lambda: None if red.M[-1].rank() == m else f"rank M_l = {red.M[-1].rank()} < n − q = {m}")
     add("M_l^+ M_l = I", "the levels recover r_1 − r̃ (41)", lambda: {"M+ M − I": d.M_l_pinv @ red.M[-1] - I(m)})
     add("A11 − K C̄ Hurwitz", "the reduced Luenberger part converges (exact Routh test)",
-        lambda: None if is_hurwitz_polynomial(_char_poly(red.A11 - d.K @ red.C_bar)) else
+        lambda: None if is_hurwitz_polynomial(charpoly(red.A11 - d.K @ red.C_bar)) else
         "A11 − K C̄ has a root with Re ≥ 0")
     add("gains positive", "λ_k, α_k and λ_w, α_w > 0",
         lambda: None if all(g > 0 for pair in (*d.gains, d.w_gains) for g in pair) else "a gain is not positive")
