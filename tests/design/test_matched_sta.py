@@ -20,10 +20,10 @@ from hypothesis import strategies as st
 from uio_ring import DelaySystem, PolyMatrix, simulate, simulate_observer
 from uio_ring.analysis.matched_reduction import matched_reduction
 from uio_ring.analysis.molinari import molinari_sequence
-from uio_ring.ring.charpoly import charpoly
 from uio_ring.design.matched_sta import design_matched_sta
 from uio_ring.design.methods import design_auto, design_with
 from uio_ring.errors import NotObservableError
+from uio_ring.ring.charpoly import charpoly
 from uio_ring.sim.identification import estimate_uncertainty
 
 from . import paper002 as P
