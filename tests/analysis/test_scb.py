@@ -12,13 +12,9 @@ from hypothesis import strategies as st
 
 from uio_ring import DelaySystem
 from uio_ring.analysis.infinite_structure import infinite_zero_structure
-from uio_ring.analysis.scb import (
-    NotLeftInvertibleError,
-    _theorem1,
-    _theorem1_violations,
-    scb_dimensions,
-    special_coordinate_basis,
-)
+from uio_ring.analysis.scb import NotLeftInvertibleError, scb_dimensions, special_coordinate_basis
+from uio_ring.analysis.scb_certificate import theorem1_violations
+from uio_ring.analysis.scb_steps import theorem1_transformation
 from uio_ring.analysis.strong_observability import (
     is_hurwitz_polynomial,
     is_strong_star_detectable,
@@ -123,10 +119,10 @@ def test_theorem1_retransformation_removes_couplings_outside_24():
     q = (2, 1)
     # x_d = [x11, x12, x21]; A_d = A_d* + B_d F_dd with F_dd row 0 hitting x12 (own chain) and row 1 hitting x21
     A = Q([[0, 1, 0], [0, 3, 2], [0, 5, 7]])
-    Ts = _theorem1(Q.identity(3), A, q, 0)
+    Ts = theorem1_transformation(Q.identity(3), A, q, 0)
     sys = DelaySystem(A.to_polymatrix(), PolyMatrix("[[0, 0], [1, 0], [0, 1]]"), PolyMatrix("[[1, 0, 0], [0, 0, 1]]"), None)
     scb = special_coordinate_basis(sys)
-    assert not _theorem1_violations(scb)
+    assert not theorem1_violations(scb)
     Ab = Ts.inverse() @ A @ Ts
     assert Ab[0, 1] == 1 and Ts.take_rows([0]).take_cols([0]) == Q([[1]])
     assert scb.verify().ok

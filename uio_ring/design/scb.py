@@ -41,6 +41,7 @@ from typing import Any, ClassVar
 
 from uio_ring.analysis.observer_classes import ObserverOptions, observer_options
 from uio_ring.analysis.scb import SpecialCoordinateBasis
+from uio_ring.analysis.scb_steps import chain_starts
 from uio_ring.design.base import ObserverDesign, matrix_to_data
 from uio_ring.design.red_gains import levant_gains
 from uio_ring.errors import DimensionError, DomainError, NotObservableError, NotSupportedError
@@ -220,7 +221,7 @@ class SCBDesign(ObserverDesign):
         injection = None
         if self.d_dynamic:
             injection = injection_from_exact(
-                starts=tuple(nab + k for k in _starts(s.q)), lengths=s.q, gains=self.kappa,
+                starts=tuple(nab + k for k in chain_starts(s.q)), lengths=s.q, gains=self.kappa,
                 sigma_y=Syd.to_polymatrix(), sigma_u=(-(Syd @ Fk)).to_polymatrix())
         else:
             # Remark 3: x̂_d = z_d + y_d with z_d' = −ρ z_d, z_d(0) = 0 is (41) exactly; ρ bounds the
@@ -294,14 +295,6 @@ class SCBDesign(ObserverDesign):
 
     def _repr_html_(self) -> str:
         return "<pre>" + html.escape(str(self)) + "</pre>"
-
-
-def _starts(q: Sequence[int]) -> list[int]:
-    out, s = [], 0
-    for k in q:
-        out.append(s)
-        s += k
-    return out
 
 
 def design_scb(
