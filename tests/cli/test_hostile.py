@@ -22,6 +22,8 @@ from hypothesis import strategies as st
 
 from uio_ring.cli import main
 
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
 SYSTEM = "  A: [[0, 1], [-1, -d]]\n  B: [[0], [1]]\n  C: [[1, 0], [0, 1]]\n  h: 0.1\n"
 DESIGN = "design:\n  poles: [-2]\n"
 SIMULATE = "simulate:\n  t_final: 0.5\n  dt: 0.01\n  w: ['sin(t)']\n  phi: [1, 0]\n"
@@ -313,6 +315,49 @@ NON_FINITE = [
 def test_non_finite_simulation_is_an_error(work, capsys, fields):
     err = refuse(work, capsys, with_sim(**fields), "simulate", "simulate")
     assert "not finite" in err
+
+
+STIFF_PLANT = "  A: [[-1000000, 0], [1, -1]]\n  B: [[0], [1]]\n  C: [[1, 0], [0, 1]]\n"
+UNTRUSTWORTHY = [  # results the grid cannot resolve: a wrong number must not be a success
+    spec(system=STIFF_PLANT, design="design:\n  poles: [-1]\n"),  # issue 16: error 4 934 after one step
+    spec(system=STIFF_PLANT + "  h: 0.1\n", design="design:\n  poles: [-1]\n"),
+    spec(system=STIFF_PLANT.replace("[1, -1]", "[d, -1]") + "  h: 0.1\n", design="design:\n  poles: [-1]\n"),
+    spec(system=STIFF_PLANT.replace("-1000000", "-100000"), design="design:\n  poles: [-3]\n"),
+]
+
+
+@pytest.mark.parametrize("text", UNTRUSTWORTHY, ids=["delay-free", "with-h", "delayed", "1e5"])
+def test_untrustworthy_simulation_is_an_error(work, capsys, text):
+    err = refuse(work, capsys, text, "simulate.dt", "simulate")
+    assert "not resolved by dt = 0.01" in err and "reduce dt" in err
+
+
+def test_stiff_observer_is_accurate_and_succeeds(work, capsys):
+    """Observer poles (−10⁶, −25, −50) on paper 001's example: the error 8.4 after 0.2 s is the
+    observer's true peaking transient (tests/sim/test_accuracy.py shows it independently)."""
+    text = (EXAMPLES / "zheng2015.yaml").read_text(encoding="utf-8")
+    text = text.replace("poles: [-10, -25, -50]", "poles: [-1000000, -25, -50]")
+    text = text.replace("t_final: 3", "t_final: 0.2").replace("settle: 2", "settle: 0.1")
+    (work / "spec.yaml").write_text(text, encoding="utf-8")
+    code, out, err = run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress", "--no-plot")
+    assert code == 0 and err == "", err
+    assert "final error 8.4," in out
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.yaml") if "fails" not in p.name))
+def test_examples_pass_the_accuracy_check(name):
+    import warnings
+
+    from uio_ring.cli.spec_commands import _design, _simulate
+    from uio_ring.sim import AccuracyWarning
+    from uio_ring.spec import load_spec
+
+    spec = load_spec(EXAMPLES / name)
+    design = _design(spec)[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        result = _simulate(design, spec, progress=False)
+    assert result.success and result.accuracy.ok, result.message
 
 
 def test_duplicate_powers_from_python_data_are_refused():

@@ -17,7 +17,9 @@ method made the design.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -29,6 +31,14 @@ from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.taps import delayed_sum
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import BlockIntegrator
+from uio_ring.sim.accuracy import (
+    RTOL,
+    RTOL_INJECTION,
+    AccuracyCheck,
+    AccuracyWarning,
+    check_accuracy,
+    window_steps,
+)
 from uio_ring.sim.plant import SystemArrays, plant_run, resolve_h
 from uio_ring.sim.result import SimulationResult
 from uio_ring.sim.signals import as_noise, input_samples
@@ -76,6 +86,7 @@ def simulate_observer(
     discretisation: str | None = None,
     exact_start: bool = False,
     phi: Callable[[float, np.ndarray], Any] | None = None,
+    check: bool = True,
 ) -> SimulationResult:
     """Simulate the plant and the observer of ``design`` on it.
 
@@ -117,12 +128,53 @@ def simulate_observer(
         integrated by :func:`uio_ring.sim.nonlinear.simulate_nonlinear`) and the observer
         copies ``φ(t, x̂)`` through its model's ``phi_map`` (e.g. the high-gain observer).
         Open loop only.
+    check : bool
+        A-posteriori accuracy check (open-loop runs with inputs given as callables or
+        constants; :mod:`uio_ring.sim.accuracy`): the start of the run is repeated with
+        ``dt/2``, without noise; when the two disagree the result has ``success=False``,
+        its ``message`` says why and an :class:`~uio_ring.sim.accuracy.AccuracyWarning`
+        is issued.  ``result.accuracy`` holds the figures (None when not checked).
 
     Returns
     -------
     SimulationResult
         ``t, x, y, w, u, x_hat, error = x − x_hat`` and ``w_hat`` (time on the last axis).
     """
+    args = dict(t_final=t_final, dt=dt, w=w, u=u, x0=x0, noise=noise, x_hat0=x_hat0, seed=seed, progress=progress,
+                h=h, feedback=feedback, discretisation=discretisation, exact_start=exact_start, phi=phi)
+    result = _simulate(design, plant, **args)
+    if not check or feedback is not None or np.ndim(w) == 2 or np.ndim(u) == 2:
+        return result  # held inputs and sampled signals depend on the grid: no dt/2 run to compare with
+    return _checked(result, design, plant, args)
+
+
+def _checked(result: SimulationResult, design: Any, plant: Any, args: dict[str, Any]) -> SimulationResult:
+    """``result`` with its :class:`~uio_ring.sim.accuracy.AccuracyCheck` (and flagged when it fails)."""
+    steps = result.t.size - 1
+    N = max(1, round(result.h / result.dt)) if result.h else 1
+    window = window_steps(steps, N)
+    quiet = {**args, "noise": None, "seed": None, "progress": False}
+
+    def rerun(t_final: float, dt: float) -> SimulationResult:
+        return _simulate(design, plant, **{**quiet, "t_final": t_final, "dt": dt})
+
+    with np.errstate(all="ignore"):
+        try:
+            coarse = result if args["noise"] is None else rerun(window * result.dt, result.dt)
+            rtol = RTOL if result.extra["model"].injection is None else RTOL_INJECTION
+            chk = check_accuracy(coarse, rerun, dt=result.dt, steps=window, rtol=rtol)
+        except SimulationError:  # the half-step run diverged
+            chk = AccuracyCheck(estimate=float("inf"), scale=1.0, window=window * result.dt, dt=result.dt)
+    extra = {**result.extra, "accuracy": chk}
+    if chk.ok:
+        return replace(result, extra=extra)
+    warnings.warn(f"simulate_observer: {chk.reason}", AccuracyWarning, stacklevel=3)
+    return replace(result, extra=extra, success=False, message=chk.reason)
+
+
+def _simulate(design: Any, plant: Any, *, t_final: Any, dt: Any, w: Any, u: Any, x0: Any, noise: Any, x_hat0: Any,
+              seed: int | None, progress: bool | None, h: Any, feedback: Any, discretisation: str | None,
+              exact_start: bool, phi: Any) -> SimulationResult:
     sys = plant if plant is not None else getattr(design, "system", None)
     if sys is None:
         raise SimulationError("plant is required: the design has no system")

@@ -110,6 +110,12 @@ class SimulationResult:
         put(self, "known_input_names", _labels(self.known_input_names, self.u.shape[0], "u"))
 
     @property
+    def accuracy(self) -> Any:
+        """The a-posteriori :class:`~uio_ring.sim.accuracy.AccuracyCheck` of an observer run
+        (None when it was not checked); ``success`` is False when it fails."""
+        return self.extra.get("accuracy")
+
+    @property
     def N(self) -> int:
         return int(round(self.h / self.dt))
 
