@@ -92,6 +92,50 @@ def test_a_killed_worker_loses_no_chunk(tmp_path, cluster):
     assert again.computed == 0 and again.skipped == 4
 
 
+def test_a_killed_local_worker_loses_no_chunk(tmp_path, monkeypatch):
+    """Local processes: SIGKILL one worker after the first chunk is written; the pool breaks,
+    the written chunks stay, the rest run in a new pool; the table is the one-worker table."""
+    import concurrent.futures
+    import multiprocessing as mp
+
+    pools = []
+
+    class CountedPool(concurrent.futures.ProcessPoolExecutor):
+        def __init__(self, *args, **kwargs):
+            pools.append(self)
+            super().__init__(*args, **kwargs)
+
+    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", CountedPool)
+    f = _mismatch(tmp_path)
+    killed = []
+
+    def kill_one(chunk):
+        workers = [p for p in mp.active_children() if p.pid is not None]
+        if not killed and workers:
+            os.kill(workers[0].pid, signal.SIGKILL)
+            killed.append(chunk.index)
+
+    res = sweep(f, out=tmp_path / "o", workers=2, formats=["parquet"], on_chunk=kill_one)
+    assert killed and len(res.table) == 8 and (res.table["error"] == "").all()
+    assert res.computed == 4 and len(pools) == 2  # the broken pool was replaced once
+    one = sweep(f, out=tmp_path / "one", workers=1, formats=["parquet"]).table
+    pd.testing.assert_frame_equal(one, res.table)
+    again = sweep(f, out=tmp_path / "o", workers=2, formats=["parquet"])
+    assert again.computed == 0 and again.skipped == 4
+
+
+def test_noise_gain_is_the_design_figure(tmp_path):
+    """One figure, one name: the sweep's noise_gain is design.performance()'s peak-to-peak gain."""
+    from uio_ring.spec import load_spec
+    from uio_ring.sweeps.runner import _design
+
+    f = _mismatch(tmp_path)
+    t = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet"]).table
+    spec = load_spec(EXAMPLES / "zheng2015.yaml")
+    expected = float(_design(spec).performance(h=spec.system.h).noise_gain.max())
+    assert np.all(t["noise_gain"] == expected) and expected > 1
+
+
 def test_resumable_and_reproducible(tmp_path):
     f = _mismatch(tmp_path)
     first = sweep(f, out=tmp_path / "o", workers=1, formats=["parquet", "csv"])

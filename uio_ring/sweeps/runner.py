@@ -53,14 +53,16 @@ def _design(spec: Any) -> Any:
     return design_with(spec.design.method, spec.system, **spec.design.options)
 
 
-def _noise_gain(design: Any, h: Any, dt: float) -> float:
-    """``max_i Σ_j gain[i, j]``: the largest estimate deviation per unit output noise (linear observers)."""
-    model = design.numeric(h=h)
-    if model.injection is not None:
-        return float("nan")
+def _noise_gain(design: Any, h: Any) -> float:
+    """``max_i Σ_j P_ij`` of ``design.performance()`` (the continuous peak-to-peak gain, the
+    figure that ``uio-ring design`` prints): the largest estimate deviation per unit bound
+    of the output noise.  NaN when there is no such figure (an injection term, F not
+    Hurwitz, modes too far apart to integrate; the design output says which)."""
+    from uio_ring.errors import UioRingError
+
     try:
-        return float(model.stepper(dt).noise_gain().sum(axis=1).max())
-    except Exception:  # noqa: BLE001 - an unstable or unusual observer has no finite gain
+        return float(design.performance(h=h).noise_gain.max())
+    except UioRingError:
         return float("nan")
 
 
@@ -158,7 +160,7 @@ def run_chunk(task: dict[str, Any]) -> list[dict[str, Any]]:
             design = _design(spec)
             sim = spec.simulate
             h = None if spec.system.h is None else float(sim.h)
-            _DESIGNS[key] = (spec, design, _noise_gain(design, h, float(sim.dt)))
+            _DESIGNS[key] = (spec, design, _noise_gain(design, h))
         spec, design, gain = _DESIGNS[key]
         plant = _plant(spec.system, float(p0.get("perturbation", 0.0)), int(p0.get("perturbation_seed", 0)))
     except Exception as exc:  # noqa: BLE001 - a failing design is a row per run, not a lost chunk
@@ -329,7 +331,15 @@ def sweep(
                        plots=plots, files=tuple(files))
 
 
+#: Attempts per chunk when a local worker process dies (killed, out of memory); a dead
+#: worker breaks the whole pool, so every chunk not finished then is charged one attempt.
+LOCAL_ATTEMPTS = 3
+
+
 def _run_local(tasks: list[dict[str, Any]], workers: int | None, done: Callable[..., None]) -> None:
+    """Chunks in this process (1 worker) or in a pool of processes.  A worker that dies breaks
+    the pool: the chunks already written stay, the others go to a new pool; a chunk whose
+    worker died ``LOCAL_ATTEMPTS`` times is written as rows with that error."""
     n = workers if workers is not None else (os.cpu_count() or 1)
     if n < 1:
         raise SpecError(f"workers={workers}: expected at least 1")
@@ -339,11 +349,31 @@ def _run_local(tasks: list[dict[str, Any]], workers: int | None, done: Callable[
         return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
 
-    with ProcessPoolExecutor(max_workers=min(n, len(tasks)), mp_context=mp.get_context("spawn")) as pool:
-        futures = {pool.submit(run_chunk, t): t for t in tasks}
-        for f in as_completed(futures):
-            done(futures[f], f.result())
+    attempts = {id(t): 0 for t in tasks}
+    todo = list(tasks)
+    while todo:
+        lost = []
+        with ProcessPoolExecutor(max_workers=min(n, len(todo)), mp_context=mp.get_context("spawn")) as pool:
+            futures = {pool.submit(run_chunk, t): t for t in todo}
+            for f in as_completed(futures):
+                t = futures[f]
+                try:
+                    rows = f.result()
+                except BrokenProcessPool:
+                    lost.append(t)
+                    continue
+                done(t, rows)
+        todo = []
+        for t in sorted(lost, key=lambda t: t["chunk"].index):
+            attempts[id(t)] += 1
+            if attempts[id(t)] < LOCAL_ATTEMPTS:
+                todo.append(t)
+            else:  # its worker died every time: the runs are rows with the reason, the sweep goes on
+                msg = f"WorkerDied: the worker process running this chunk died {LOCAL_ATTEMPTS} times"
+                c = t["chunk"]
+                done(t, [_row(r, c.index, t["axes"], {}, np.nan, msg) for r in c.runs])
 
 
 def _run_dask(tasks: list[dict[str, Any]], scheduler: str, done: Callable[..., None]) -> None:
