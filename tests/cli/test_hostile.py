@@ -109,7 +109,12 @@ BOUNDED = [
     ("simulate", with_sim(w="['" + "(" * 900 + "t" + ")" * 900 + "']"), "simulate.w[0]"),
     ("simulate", with_sim(w="['1e400*t']"), "simulate.w[0]"),
     ("simulate", with_sim(settle="1e99999999"), "simulate.settle"),
-    ("simulate", with_sim(t_final="200000"), "simulate: 20000000 steps × 11 recorded signals"),
+    # runs kept in memory (NPZ output, a nonlinearity) are bounded at 5e7 values; CSV runs are streamed
+    ("simulate", with_sim(t_final="200000") + "output:\n  formats: [npz]\n",
+     "simulate: 20000000 steps × 11 recorded signals"),
+    ("simulate", spec(system="  A: [[0, 1], [-1, 0]]\n  B: [[0], [1]]\n  C: [[1, 0], [0, 1]]\n",
+                      simulate="simulate:\n  t_final: 200000\n  dt: 0.01\n  nonlinearity: ['0', '-x1**3']\n"),
+     "simulate: 20000000 steps × 11 recorded signals"),
     ("simulate", with_sim(t_final="1e9"), "simulate: t_final/dt"),
 ]
 

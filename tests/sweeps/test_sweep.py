@@ -107,6 +107,7 @@ def test_a_killed_local_worker_loses_no_chunk(tmp_path, monkeypatch):
 
     monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", CountedPool)
     f = _mismatch(tmp_path)
+    f.write_text(f.read_text().replace("chunk_size: 2", "chunk_size: 1"))  # 8 chunks: some are left at the kill
     killed = []
 
     def kill_one(chunk):
@@ -117,11 +118,11 @@ def test_a_killed_local_worker_loses_no_chunk(tmp_path, monkeypatch):
 
     res = sweep(f, out=tmp_path / "o", workers=2, formats=["parquet"], on_chunk=kill_one)
     assert killed and len(res.table) == 8 and (res.table["error"] == "").all()
-    assert res.computed == 4 and len(pools) == 2  # the broken pool was replaced once
+    assert res.computed == 8 and len(pools) == 2  # the broken pool was replaced once
     one = sweep(f, out=tmp_path / "one", workers=1, formats=["parquet"]).table
     pd.testing.assert_frame_equal(one, res.table)
     again = sweep(f, out=tmp_path / "o", workers=2, formats=["parquet"])
-    assert again.computed == 0 and again.skipped == 4
+    assert again.computed == 0 and again.skipped == 8
 
 
 def test_noise_gain_is_the_design_figure(tmp_path):

@@ -10,7 +10,9 @@ Existing files are not replaced unless ``--force`` (checked before any work).
 All files of a run are written under temporary names and renamed at the end,
 so a failed or interrupted run leaves none.  A design whose certificate fails
 is reported (exit 1) and **not written**; a simulation that produces
-non-finite values is an error (exit 2) and writes nothing.
+non-finite values, or that its step dt does not resolve (the accuracy check), is an
+error (exit 2) and writes nothing.  Long CSV runs are streamed to disk
+(:mod:`uio_ring.cli.stream`).
 """
 
 from __future__ import annotations
@@ -327,50 +329,113 @@ def _run_simulate(args: argparse.Namespace) -> int:
 
 
 def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Path, formats: set[str]) -> int:
-    import numpy as np
-
+    from uio_ring.cli.stream import streamed
     from uio_ring.errors import NotObservableError, SpecError, UioRingError
     from uio_ring.spec.designs import design_texts
+    from uio_ring.spec.loader import check_memory_budget, recorded_values
 
+    sim = spec.simulate
+    steps, columns = recorded_values(spec.system, sim.t_final, sim.dt)
+    stream = streamed(steps=steps, columns=columns, nonlinear=bool(sim.nonlinearity), npz="npz" in formats)
+    if "npz" in formats:
+        check_memory_budget(spec.system, sim.t_final, sim.dt, why="NPZ output is kept in memory")
     design, method, skipped = _design(spec)
     cert = design.certificate()
     _print_design(spec, design, method, skipped, cert, args.quiet)
     if not cert.ok:
         print("certificate FAILED: not simulated, no files written", file=sys.stderr)
         return 1
-    sim = spec.simulate
+    settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2
+    design_formats = [f for f in ("json", "yaml", "latex") if f in formats]
     try:
-        with np.errstate(all="ignore"):  # overflow is reported once, by _check_finite below
-            result = _simulate(design, spec, args.progress)
+        if stream:
+            window = _probe_window(spec, steps)
+            probe = _simulate(design, spec, False, t_final=window, noisy=False)  # the accuracy check
+        else:
+            probe = _simulate(design, spec, args.progress)
     except (SpecError, NotObservableError):
         raise
     except UioRingError as exc:  # the simulation refused its input: name the spec section
         raise SpecError(str(exc), path="simulate") from None
-    _check_finite(result)
-    if not result.success:  # the a-posteriori accuracy check failed: never a success with a wrong number
-        raise SpecError(f"the simulation is {result.message} (nothing written)", path="simulate.dt")
-    t = result.t
-    settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2
-    err = np.max(np.abs(result.error), axis=0)
-    after = err[t >= settle]
-    design_formats = [f for f in ("json", "yaml", "latex") if f in formats]
+    _accept(probe)
     with out:
         paths = [out.write_text(stem.with_suffix(suffix), text)
                  for suffix, text in design_texts(design, design_formats).items()]
-        for kind in ("csv", "npz"):
-            if kind in formats:
-                paths.append(out.write_with(stem.with_suffix("." + kind),
-                                            lambda p, kind=kind: _write_signals(result, p, npz=kind == "npz")))
-        if "png" in formats:
+        if stream:
+            figures, result = _stream(args, design, spec, out, stem, formats, settle, paths)
+        else:
+            figures, result = _figures(probe, settle), probe
+            for kind in ("csv", "npz"):
+                if kind in formats:
+                    paths.append(out.write_with(stem.with_suffix("." + kind),
+                                                lambda p, kind=kind: _write_signals(result, p, npz=kind == "npz")))
+        if "png" in formats and result is not None:
             paths.append(out.write_with(stem.with_suffix(".png"), lambda p: _write_plot(result, p, spec.name)))
-    line = (f"{spec.name}: simulated {t[-1]:g} s with dt = {float(sim.dt):g} ({len(t) - 1} steps); "
-            f"final error {err[-1]:.3g}, max error after t = {settle:g} s: {after.max() if after.size else 0.0:.3g}")
-    if result.w_hat is not None:
-        w_err = np.max(np.abs(result.w - result.w_hat), axis=0)[t >= settle]
-        line += f"; max |w − ŵ| after t = {settle:g} s: {w_err.max() if w_err.size else 0.0:.3g}"
+    steps_done, t_last, final, after, w_after = figures
+    line = (f"{spec.name}: simulated {t_last:g} s with dt = {float(sim.dt):g} ({steps_done} steps); "
+            f"final error {final:.3g}, max error after t = {settle:g} s: {after:.3g}")
+    if w_after is not None:
+        line += f"; max |w − ŵ| after t = {settle:g} s: {w_after:.3g}"
+    if stream:
+        line += " (streamed to disk)"
     print(line)
     print("wrote " + ", ".join(str(p) for p in paths))
     return 0
+
+
+def _accept(result: Any) -> None:
+    """A non-finite or unresolved simulation is an error (exit 2, nothing written)."""
+    from uio_ring.errors import SpecError
+
+    _check_finite(result)
+    if not result.success:  # the a-posteriori accuracy check failed: never a success with a wrong number
+        raise SpecError(f"the simulation is {result.message} (nothing written)", path="simulate.dt")
+
+
+def _figures(result: Any, settle: float) -> tuple[int, float, float, float, float | None]:
+    """(steps, t_final, final error, max error after settle, max |w − ŵ| after settle or None)."""
+    import numpy as np
+
+    t = result.t
+    err = np.max(np.abs(result.error), axis=0)
+    after = err[t >= settle]
+    w_after = None
+    if result.w_hat is not None:
+        w_err = np.max(np.abs(result.w - result.w_hat), axis=0)[t >= settle]
+        w_after = float(w_err.max()) if w_err.size else 0.0
+    return len(t) - 1, float(t[-1]), float(err[-1]), float(after.max()) if after.size else 0.0, w_after
+
+
+def _probe_window(spec: Any, steps: int) -> float:
+    """Seconds of the accuracy check of a streamed run (the window of an in-memory run)."""
+    from uio_ring.sim.accuracy import window_steps
+
+    sim = spec.simulate
+    dt = float(sim.dt)
+    N = round(float(sim.h) / dt) if spec.system.h is not None else 1
+    return window_steps(steps, N) * dt
+
+
+def _stream(args: argparse.Namespace, design: Any, spec: Any, out: Any, stem: Path, formats: set[str], settle: float,
+            paths: list[Path]) -> tuple[tuple[int, float, float, float, float | None], Any]:
+    """The long run by segments, its CSV written as it goes; (figures, preview for the plot)."""
+    from uio_ring.cli.stream import stream_csv
+    from uio_ring.errors import NotObservableError, SpecError, UioRingError
+
+    box: list[Any] = []
+
+    def write(p: Path) -> None:
+        box.append(stream_csv(design, spec, p, settle=settle, check=_check_finite, progress=args.progress,
+                              preview="png" in formats))
+
+    try:
+        paths.append(out.write_with(stem.with_suffix(".csv"), write))
+    except (SpecError, NotObservableError):
+        raise
+    except UioRingError as exc:
+        raise SpecError(str(exc), path="simulate") from None
+    s = box[0]
+    return (s.steps, s.t_last, s.final, s.max_after, s.w_max_after), s.preview
 
 
 def _check_finite(result: Any) -> None:
@@ -406,9 +471,11 @@ def _simulation_formats(requested: Any, *, npz: bool, plot: bool) -> set[str]:
     return formats
 
 
-def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
-    """Run the spec's simulation; an untrustworthy result comes back with ``success=False``
-    (the caller reports it; the API's warning is not printed)."""
+def _simulate(design: Any, spec: Any, progress: bool | None, *, t_final: float | None = None,
+              noisy: bool = True) -> Any:
+    """Run the spec's simulation (up to ``t_final`` when given; without its noise when not
+    ``noisy``); an untrustworthy result comes back with ``success=False`` (the caller reports
+    it; the API's warning is not printed)."""
     import warnings
 
     from uio_ring.sim import AccuracyWarning, simulate_observer
@@ -421,12 +488,12 @@ def _simulate(design: Any, spec: Any, progress: bool | None) -> Any:
             design,
             spec.system,
             h=None if spec.system.h is None else float(sim.h),
-            t_final=float(sim.t_final),
+            t_final=float(sim.t_final) if t_final is None else t_final,
             dt=float(sim.dt),
             w=sim.signal("w"),
             u=sim.signal("u"),
             x0=sim.signal("phi"),
-            noise=sim.noise(),
+            noise=sim.noise() if noisy else None,
             x_hat0=x_hat0,
             discretisation=sim.discretisation,
             progress=progress,
@@ -441,6 +508,8 @@ def _write_signals(result: Any, path: Path, *, npz: bool) -> None:
 
     import numpy as np
 
+    from uio_ring.cli.stream import write_rows
+
     columns = result.columns()
     if npz:
         arrays = {k: getattr(result, k) for k in ("t", "x", "y", "w", "u", "x_hat", "error", "w_hat")
@@ -452,7 +521,7 @@ def _write_signals(result: Any, path: Path, *, npz: bool) -> None:
     with open(path, "w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(list(columns))
-        writer.writerows([f"{v:.10g}" for v in row] for row in data)
+        write_rows(writer, data)
 
 
 def _write_plot(result: Any, path: Path, title: str) -> None:

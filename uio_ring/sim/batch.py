@@ -27,7 +27,7 @@ scenario (up to rounding: ~1e-13 relative).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -43,7 +43,10 @@ from uio_ring.sim._blocks import block_integrator
 from uio_ring.sim.plant import SystemArrays
 from uio_ring.sim.signals import UniformNoise, as_noise, input_samples
 
-__all__ = ["Scenario", "BatchResult", "simulate_batch", "METRICS"]
+__all__ = ["Scenario", "BatchResult", "Segment", "simulate_batch", "METRICS"]
+
+#: Input samples evaluated per call of a scenario's signal (values, all scenarios together).
+INPUT_WINDOW = 1 << 21
 
 #: Per-scenario metrics of :func:`simulate_batch`; ``e(t) = ‖x(t) − x̂(t)‖_∞``.
 METRICS = {
@@ -57,6 +60,21 @@ METRICS = {
     "rms_settled": "RMS of e(t) for t ≥ settle",
     "t_diverge": "first time e(t) > diverge or not finite (NaN: never)",
 }
+
+
+@dataclass(frozen=True, eq=False)
+class Segment:
+    """Consecutive samples of a batch run (``on_segment``): ``t`` ``(S,)`` and time-major
+    arrays ``(S, K, ·)`` of the plant (``x, y, w, u``) and the observer (``x_hat``, ``w_hat``
+    or None).  Segments follow each other without overlap and cover ``t = 0 … t_final``."""
+
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    w: np.ndarray
+    u: np.ndarray
+    x_hat: np.ndarray
+    w_hat: np.ndarray | None
 
 
 @dataclass(frozen=True)
@@ -90,14 +108,15 @@ class BatchResult:
     Attributes
     ----------
     metrics : dict of (K,) arrays — see :data:`METRICS`
-    t : (T,) grid times
+    t : (T,) grid times (made when asked: a long run keeps only ``dt`` and ``n_steps``)
     x, y, x_hat, error : (K, n, T) arrays, or None unless ``trajectories=True``
     w_hat : (K, n_w, T) array or None (models that reconstruct w, with trajectories)
     tol, diverge : the thresholds of the metrics
     """
 
     metrics: dict[str, np.ndarray]
-    t: np.ndarray
+    dt: float
+    n_steps: int
     tol: float
     diverge: float
     x: np.ndarray | None = None
@@ -105,6 +124,10 @@ class BatchResult:
     x_hat: np.ndarray | None = None
     w_hat: np.ndarray | None = None
     extra: dict = field(default_factory=dict)
+
+    @property
+    def t(self) -> np.ndarray:
+        return np.arange(self.n_steps + 1) * self.dt
 
     @property
     def error(self) -> np.ndarray | None:
@@ -120,7 +143,7 @@ class BatchResult:
 
     def __repr__(self) -> str:
         conv = int(np.sum(np.isfinite(self.metrics["t_converge"])))
-        return (f"<BatchResult: {self.K} scenarios, t = 0…{self.t[-1]:g} ({self.t.size} samples), "
+        return (f"<BatchResult: {self.K} scenarios, t = 0…{self.n_steps * self.dt:g} ({self.n_steps + 1} samples), "
                 f"{conv} converged to {self.tol:g}>")
 
 
@@ -316,7 +339,7 @@ class _BatchPlant:
         cache = self._cache.get(which)
         if cache is None or j_min < cache[0] or j_max > cache[1]:
             K = len(self.scen)
-            hi = max(j_max, j_min + (1 << 21) // max(K * n, 1))
+            hi = max(j_max, j_min + INPUT_WINDOW // max(K * n, 1))
             arr = np.empty((hi - j_min + 1, K, n))
             for k, sc in enumerate(self.scen):
                 arr[:, k] = input_samples(getattr(sc, which), n, j_min=j_min, j_max=hi, n_steps=self.n_steps,
@@ -341,8 +364,8 @@ class _BatchPlant:
                 out[:, k, i] = np.random.Generator(bg).uniform(-1.0, 1.0, size=m) * amp[i]
         return out
 
-    def segment(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray]:
-        """Integrate ``nb`` blocks; return ``(jlo, jhi, X, Y, U)`` for the new samples ``jlo … jhi``
+    def segment(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Integrate ``nb`` blocks; return ``(jlo, jhi, X, Y, W, U)`` for the new samples ``jlo … jhi``
         (time-major: ``(jhi − jlo + 1, K, ·)``; the first segment includes ``j = 0``)."""
         S, N = self.S, self.N
         K = len(self.scen)
@@ -374,7 +397,8 @@ class _BatchPlant:
             Y += nz
         self.b0 = b0 + nb
         sl = slice(KxN + jlo - a0, KxN + jhi - a0 + 1)
-        return jlo, jhi, X[sl], Y, U[KinN + jlo - a0 : KinN + jhi - a0 + 1]
+        rows = slice(KinN + jlo - a0, KinN + jhi - a0 + 1)
+        return jlo, jhi, X[sl], Y, W[rows], U[rows]
 
 
 # ---------------------------------------------------------------------------------- observer
@@ -608,6 +632,7 @@ def simulate_batch(
     discretisation: str | None = None,
     segment_steps: int | None = None,
     progress: bool | None = None,
+    on_segment: Callable[[Segment], None] | None = None,
 ) -> BatchResult:
     """Run ``len(scenarios)`` scenarios of ``design`` on one plant in one vectorised call.
 
@@ -638,6 +663,9 @@ def simulate_batch(
         Steps per segment (rounded down to whole delay blocks); default: bounded memory.
     progress : bool, optional
         Progress bar on stderr.
+    on_segment : callable, optional
+        Called with each :class:`Segment` as soon as it is computed (stream the trajectories
+        to disk with bounded memory: the segment's arrays are not kept).
 
     Returns
     -------
@@ -691,8 +719,10 @@ def simulate_batch(
         total = -(-n_steps // bp.N) if n_steps else 1
         with Progress(total, want_progress(progress, n_steps * K), "batch") as bar, np.errstate(all="ignore"):
             while bp.b0 == 0 or bp.b0 * bp.N < n_steps:
-                jlo, jhi, X, Y, U = bp.segment(nb)
+                jlo, jhi, X, Y, W, U = bp.segment(nb)
                 xh, wh = bo.segment(jlo, Y, U)
+                if on_segment is not None:
+                    on_segment(Segment(t=np.arange(jlo, jhi + 1) * dtv, x=X, y=Y, w=W, u=U, x_hat=xh, w_hat=wh))
                 e = np.max(np.abs(X - xh), axis=2) if S.n_x else np.zeros(X.shape[:2])
                 met.update(jlo, e.T)
                 if trajectories:
@@ -700,11 +730,10 @@ def simulate_batch(
                 bar.update(bp.b0)
                 if n_steps == 0:
                     break
-    t = np.arange(n_steps + 1) * dtv
     out: dict[str, Any] = {}
     if trajectories:
         for i, name in enumerate(("x", "y", "x_hat", "w_hat")):
             if name != "w_hat" or model.W is not None:  # (T, K, n) → (K, n, T)
                 out[name] = np.ascontiguousarray(np.concatenate([k[i] for k in keep], axis=0).transpose(1, 2, 0))
-    return BatchResult(metrics=met.result(n_steps), t=t, tol=tolv, diverge=divv,
+    return BatchResult(metrics=met.result(n_steps), dt=dtv, n_steps=n_steps, tol=tolv, diverge=divv,
                        extra={"model": model, "stepper": stepper, "plant_h": ph}, **out)

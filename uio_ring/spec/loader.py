@@ -56,10 +56,10 @@ MAX_DIMENSION = 64
 MAX_DELAY_DEGREE = 16
 #: Most simulation steps accepted (t_final / dt).
 MAX_STEPS = 20_000_000
-#: Most values a simulation records (steps × signals: t, x, x̂, error, y, w, ŵ, u).  Every
-#: step is kept in memory and written to the CSV/NPZ: measured about 30 bytes of peak memory
-#: and 12 bytes of CSV per value (2·10⁶ steps of a 2-state system: 0.58 GB, 0.24 GB CSV, 40 s),
-#: so the budget is about 1.5 GB of memory and 0.6 GB of CSV.
+#: Most values a simulation kept in memory records (steps × signals: t, x, x̂, error, y, w, ŵ,
+#: u): runs written as NPZ and runs with a ``nonlinearity``.  Measured about 30 bytes of peak
+#: memory per value (2·10⁶ steps of a 2-state system: 0.58 GB), so about 1.5 GB.  Longer CSV
+#: runs are streamed to disk by segments (:mod:`uio_ring.cli.stream`), with bounded memory.
 MAX_RECORDED_VALUES = 50_000_000
 #: Largest coefficient in a spec matrix, in bits (numerator plus denominator; about
 #: 3 600 decimal digits), bounded while parsing.
@@ -645,6 +645,26 @@ def _sim_value(x: Fraction, path: str) -> Fraction:
     return x
 
 
+def recorded_values(system: Any, t_final: Any, dt: Any) -> tuple[int, int]:
+    """``(steps, columns)`` of a simulation's record: t, x, x̂, error, y, w, ŵ, u per step."""
+    columns = 1 + 3 * system.n_x + system.n_y + 2 * system.n_w + system.n_u
+    return math.ceil(Fraction(t_final) / Fraction(dt)), columns
+
+
+def check_memory_budget(system: Any, t_final: Any, dt: Any, *, why: str) -> None:
+    """Refuse (``SpecError`` at ``simulate``) a run kept in memory that records more than
+    :data:`MAX_RECORDED_VALUES` values; ``why`` says why this run is not streamed."""
+    steps, columns = recorded_values(system, t_final, dt)
+    values = steps * columns
+    if values > MAX_RECORDED_VALUES:
+        raise SpecError(
+            f"{steps} steps × {columns} recorded signals = {values:.3g} values exceed the memory budget of "
+            f"{MAX_RECORDED_VALUES:.0e} (uio_ring.spec.loader.MAX_RECORDED_VALUES); {why}: choose a larger dt or "
+            "a shorter t_final (CSV output without a nonlinearity is streamed to disk and has no such bound)",
+            path="simulate",
+        )
+
+
 def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
     t_final = _sim_value(_positive(data["t_final"], "simulate.t_final", "t_final"), "simulate.t_final")
     dt = _sim_value(_positive(data["dt"], "simulate.dt", "dt"), "simulate.dt")
@@ -666,15 +686,8 @@ def _read_simulate(data: dict[str, Any], system: Any) -> SimulateSpec:
         raise SpecError(
             f"t_final/dt = {math.ceil(t_final / dt)} steps exceed the limit of {MAX_STEPS}", path="simulate"
         )
-    columns = 1 + 3 * system.n_x + system.n_y + 2 * system.n_w + system.n_u  # t, x, x̂, error, y, w, ŵ, u
-    values = math.ceil(t_final / dt) * columns
-    if values > MAX_RECORDED_VALUES:
-        raise SpecError(
-            f"{math.ceil(t_final / dt)} steps × {columns} recorded signals = {values:.3g} values exceed the memory "
-            f"budget of {MAX_RECORDED_VALUES:.0e} (uio_ring.spec.loader.MAX_RECORDED_VALUES); every step is kept "
-            "in memory and written out: choose a larger dt or a shorter t_final",
-            path="simulate",
-        )
+    if data.get("nonlinearity") is not None:  # simulated in memory (not streamed): bounded here
+        check_memory_budget(system, t_final, dt, why="a run with a nonlinearity is kept in memory")
     w = _texts(data["w"], system.n_w, "simulate.w", "unknown inputs") if data.get("w") is not None else ()
     if not w and system.n_w:
         w = ("0",) * system.n_w
