@@ -329,6 +329,8 @@ def _run_simulate(args: argparse.Namespace) -> int:
 
 
 def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Path, formats: set[str]) -> int:
+    import numpy as np
+
     from uio_ring.cli.stream import streamed
     from uio_ring.errors import NotObservableError, SpecError, UioRingError
     from uio_ring.spec.designs import design_texts
@@ -348,11 +350,12 @@ def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Pat
     settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2
     design_formats = [f for f in ("json", "yaml", "latex") if f in formats]
     try:
-        if stream:
-            window = _probe_window(spec, steps)
-            probe = _simulate(design, spec, False, t_final=window, noisy=False)  # the accuracy check
-        else:
-            probe = _simulate(design, spec, args.progress)
+        with np.errstate(all="ignore"):  # overflow is reported once, by _accept below
+            if stream:
+                window = _probe_window(spec, steps)
+                probe = _simulate(design, spec, False, t_final=window, noisy=False)  # the accuracy check
+            else:
+                probe = _simulate(design, spec, args.progress)
     except (SpecError, NotObservableError):
         raise
     except UioRingError as exc:  # the simulation refused its input: name the spec section
@@ -419,6 +422,8 @@ def _probe_window(spec: Any, steps: int) -> float:
 def _stream(args: argparse.Namespace, design: Any, spec: Any, out: Any, stem: Path, formats: set[str], settle: float,
             paths: list[Path]) -> tuple[tuple[int, float, float, float, float | None], Any]:
     """The long run by segments, its CSV written as it goes; (figures, preview for the plot)."""
+    import numpy as np
+
     from uio_ring.cli.stream import stream_csv
     from uio_ring.errors import NotObservableError, SpecError, UioRingError
 
@@ -429,7 +434,8 @@ def _stream(args: argparse.Namespace, design: Any, spec: Any, out: Any, stem: Pa
                               preview="png" in formats))
 
     try:
-        paths.append(out.write_with(stem.with_suffix(".csv"), write))
+        with np.errstate(all="ignore"):  # overflow is reported once, by _check_finite on its segment
+            paths.append(out.write_with(stem.with_suffix(".csv"), write))
     except (SpecError, NotObservableError):
         raise
     except UioRingError as exc:
