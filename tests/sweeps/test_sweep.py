@@ -126,6 +126,36 @@ def test_a_killed_local_worker_loses_no_chunk(tmp_path, monkeypatch):
     assert again.computed == 0 and again.skipped == 8
 
 
+def _dies_on_chunk_1(task):
+    """A chunk runner whose process dies on chunk 1 (every time) and works on the others."""
+    from uio_ring.sweeps.runner import run_chunk
+
+    if task["chunk"].index == 1:
+        os.kill(os.getpid(), signal.SIGKILL)
+    return run_chunk(task)
+
+
+def test_a_chunk_whose_worker_always_dies_is_rows_with_the_reason(tmp_path):
+    """Only that chunk is charged (it is found by running the chunks left one at a time); the
+    others complete and match the one-worker table."""
+    from uio_ring.sweeps.runner import _run_local
+
+    f = _mismatch(tmp_path)
+    sw = load_sweep(f)
+    common = {"axes": [a.name for a in sw.axes], "base": sw.base, "options": list(sw.design_options),
+              "tol": sw.tol, "diverge": sw.diverge, "fingerprint": sw.fingerprint()}
+    tasks = [dict(common, chunk=c) for c in sw.chunks()]
+    rows = {}
+    _run_local(tasks, 2, lambda t, r: rows.__setitem__(t["chunk"].index, r), run=_dies_on_chunk_1)
+    assert sorted(rows) == [0, 1, 2, 3]
+    assert all(r["error"].startswith("WorkerDied") and np.isnan(r["peak"]) for r in rows[1])
+    assert all(r["error"] == "" for c in (0, 2, 3) for r in rows[c])
+    one = sweep(f, out=tmp_path / "one", workers=1, formats=["parquet"]).table
+    for c in (0, 2, 3):
+        for r in rows[c]:
+            assert r["peak"] == one.loc[one["run"] == r["run"], "peak"].item()
+
+
 def test_noise_gain_is_the_design_figure(tmp_path):
     """One figure, one name: the sweep's noise_gain is design.performance()'s peak-to-peak gain."""
     from uio_ring.spec import load_spec

@@ -331,49 +331,58 @@ def sweep(
                        plots=plots, files=tuple(files))
 
 
-#: Attempts per chunk when a local worker process dies (killed, out of memory); a dead
-#: worker breaks the whole pool, so every chunk not finished then is charged one attempt.
-LOCAL_ATTEMPTS = 3
+#: Runs of a chunk, each in a process of its own, before a chunk whose worker process dies
+#: every time (killed, out of memory, a crash in native code) is written as error rows.
+LOCAL_ATTEMPTS = 2
 
 
-def _run_local(tasks: list[dict[str, Any]], workers: int | None, done: Callable[..., None]) -> None:
-    """Chunks in this process (1 worker) or in a pool of processes.  A worker that dies breaks
-    the pool: the chunks already written stay, the others go to a new pool; a chunk whose
-    worker died ``LOCAL_ATTEMPTS`` times is written as rows with that error."""
+def _run_local(tasks: list[dict[str, Any]], workers: int | None, done: Callable[..., None],
+               run: Callable[[dict[str, Any]], list[dict[str, Any]]] = run_chunk) -> None:
+    """Chunks in this process (1 worker) or in a pool of processes (``run`` runs one chunk).
+
+    A worker that dies breaks the pool: the chunks already written stay and the others go
+    to a new pool.  If that one breaks too, the remaining chunks run one at a time, each in
+    a process of its own, so that a death is charged to its chunk only: a chunk whose
+    process died ``LOCAL_ATTEMPTS`` times is written as rows with that error.
+    """
     n = workers if workers is not None else (os.cpu_count() or 1)
     if n < 1:
         raise SpecError(f"workers={workers}: expected at least 1")
     if n == 1 or len(tasks) == 1:
         for t in tasks:
-            done(t, run_chunk(t))
+            done(t, run(t))
         return
+    todo = _pool(tasks, n, done, run)
+    if todo:
+        todo = _pool(todo, n, done, run)  # a death once (a kill, memory): the rest in a new pool
+    for t in sorted(todo, key=lambda t: t["chunk"].index):  # deaths again: find the chunk that dies
+        for _ in range(LOCAL_ATTEMPTS):
+            if not _pool([t], 1, done, run):
+                break
+        else:
+            c = t["chunk"]
+            msg = f"WorkerDied: the process running this chunk alone died {LOCAL_ATTEMPTS} times"
+            done(t, [_row(r, c.index, t["axes"], {}, np.nan, msg) for r in c.runs])
+
+
+def _pool(tasks: list[dict[str, Any]], n: int, done: Callable[..., None],
+          run: Callable[[dict[str, Any]], list[dict[str, Any]]]) -> list[dict[str, Any]]:
+    """Run ``tasks`` in a pool of ``n`` spawned processes; return those lost when it broke."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
-    attempts = {id(t): 0 for t in tasks}
-    todo = list(tasks)
-    while todo:
-        lost = []
-        with ProcessPoolExecutor(max_workers=min(n, len(todo)), mp_context=mp.get_context("spawn")) as pool:
-            futures = {pool.submit(run_chunk, t): t for t in todo}
-            for f in as_completed(futures):
-                t = futures[f]
-                try:
-                    rows = f.result()
-                except BrokenProcessPool:
-                    lost.append(t)
-                    continue
-                done(t, rows)
-        todo = []
-        for t in sorted(lost, key=lambda t: t["chunk"].index):
-            attempts[id(t)] += 1
-            if attempts[id(t)] < LOCAL_ATTEMPTS:
-                todo.append(t)
-            else:  # its worker died every time: the runs are rows with the reason, the sweep goes on
-                msg = f"WorkerDied: the worker process running this chunk died {LOCAL_ATTEMPTS} times"
-                c = t["chunk"]
-                done(t, [_row(r, c.index, t["axes"], {}, np.nan, msg) for r in c.runs])
+    lost = []
+    with ProcessPoolExecutor(max_workers=min(n, len(tasks)), mp_context=mp.get_context("spawn")) as pool:
+        futures = {pool.submit(run, t): t for t in tasks}
+        for f in as_completed(futures):
+            try:
+                rows = f.result()
+            except BrokenProcessPool:
+                lost.append(futures[f])
+                continue
+            done(futures[f], rows)
+    return lost
 
 
 def _run_dask(tasks: list[dict[str, Any]], scheduler: str, done: Callable[..., None]) -> None:
