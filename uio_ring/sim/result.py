@@ -80,6 +80,8 @@ class SimulationResult:
     w_hat : (n_w, T) array or None — the unknown-input estimate, for methods that reconstruct it
     h, dt : float; N = h/dt
     lag : int or None — the estimate at t reads the observer's state over ``[t − lag·h, t]``
+    success, message : bool, str — False and the reason when the a-posteriori accuracy check
+        failed (:attr:`accuracy`; the numbers are then not to be trusted)
     """
 
     t: np.ndarray
