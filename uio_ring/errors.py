@@ -29,6 +29,7 @@ __all__ = [
     "MissingDependencyError",
     "NotObservableError",
     "SpecError",
+    "OptionError",
     "SimulationError",
     "NotSupportedError",
     "require",
@@ -53,6 +54,15 @@ class SpecError(UioRingError, ValueError):
         super().__init__(f"{path}: {message}" if path else message)
         self.path = path
         self.detail = message
+
+
+class OptionError(DomainError):
+    """A design option's value outside its admissible range; ``option`` names it (a spec
+    reports it at ``design.<option>``)."""
+
+    def __init__(self, message: str, *, option: str):
+        super().__init__(message)
+        self.option = option
 
 
 class SimulationError(UioRingError, ValueError):

@@ -238,7 +238,8 @@ def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
                 return res.design, res.method, res.skipped
             return design_with(spec.design.method, spec.system, **spec.design.options), spec.design.method, ()
     except (DimensionError, DomainError, SimulationError) as exc:  # an option of the design section does not fit
-        raise SpecError(str(exc), path="design") from exc
+        option = getattr(exc, "option", None)
+        raise SpecError(str(exc), path=f"design.{option}" if option else "design") from exc
 
 
 def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, quiet: bool) -> None:

@@ -366,10 +366,18 @@ def _register_builtin() -> None:
             certificate=scb_design_certificate,
             preview=_preview_scb,
             options=(
-                MethodOption("b_observer", "choice", "observer of the x_b part: linear (Luenberger (39))",
-                             choices=B_OBSERVERS),
+                MethodOption("b_observer", "choice", "observer of the x_b part: linear (Luenberger (39)) or cbho "
+                             "(continuous bi-homogeneous (56), fixed-time)", choices=B_OBSERVERS),
                 MethodOption("d_observer", "choice", "observer of the x_d part: linear (x_d = y_d, all q_i = 1), "
-                             "1-smo or hosmo (default: linear when all q_i = 1, else hosmo)", choices=D_OBSERVERS),
+                             "1-smo, hosmo or dbho (discontinuous bi-homogeneous (60)) (default: linear when all "
+                             "q_i = 1, else hosmo)", choices=D_OBSERVERS),
+                MethodOption("d_inf", "rational", "dbho: degree at infinity, -1 <= d_inf < 0 (finite-time) or "
+                             "0 < d_inf < 1/(q_i - 1) (fixed-time; default 4/5 of the bound, 1 if all q_i = 1)"),
+                MethodOption("mu", "rational", "cbho/dbho: weight of the two limits of the injection, in (0, 1) "
+                             "(default 1/2)"),
+                MethodOption("b_d0", "rational", "cbho: degree at the origin, -1 < b_d0 < 0 (default -1/2)"),
+                MethodOption("b_d_inf", "rational", "cbho: degree at infinity, 0 < b_d_inf < 1/(l_i - 1) "
+                             "(default 4/5 of the bound, 1 if all l_i = 1)"),
                 MethodOption("poles_b", "rationals", "n_b exact rationals: spec(A_b - L_b C_b) (default: n_b poles "
                              "at -ceil(||A||_inf))"),
                 MethodOption("input_bounds", "rational_or_rationals", "bounds |w_i| <= L_i (one per unknown input, "
@@ -392,7 +400,8 @@ def _preview_scb(sys: DelaySystem) -> str:
     rep = observer_options(sys)
     scb = rep.scb
     assert scb is not None
-    d = "x̂_d = y_d (linear)" if all(k == 1 for k in scb.q) else "sliding-mode chains (needs input_bounds or input_ranges)"
+    d = "x̂_d = y_d (linear)" if all(k == 1 for k in scb.q) else \
+        "sliding-mode or bi-homogeneous chains (needs input_bounds or input_ranges)"
     return (f"(n_a, n_b, n_d) = ({scb.n_a}, {scb.n_b}, {scb.n_d}), q = {scb.q}: poles_b takes n_b = {scb.n_b} "
             f"value(s); x_d: {d}; convergence {rep.convergence}")
 

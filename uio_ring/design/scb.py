@@ -6,7 +6,9 @@ the observer is three pieces, each fed by the *measured* outputs:
 * ``x̂_a' = A_a x̂_a + H_ab y_b + H_ad y_d + B_0a y_0``                      (37)
   — an open-loop copy, converging at the rate of the invariant zeros;
 * ``x̂_b' = A_b x̂_b + H_bd y_d + B_0b y_0 + L_b (y_b − C_b x̂_b)``          (39)
-  — Luenberger, ``spec(A_b − L_b C_b)`` assignable (``poles_b``);
+  — Luenberger, ``spec(A_b − L_b C_b)`` assignable (``poles_b``); or the continuous
+  bi-homogeneous observer (CBHO, (56)): ``L_b`` replaced by ``H_bb`` plus a Moreno
+  injection ``κ_{b,j} Φ_j(y_{b,i} − x̂_{b,i,1})`` per chain (fixed-time, Theorem 3);
 * ``x̂_d``: ``y_d`` itself when every chain has length 1 (41, exact from t = 0);
   otherwise the higher-order sliding-mode observer (47) with a Levant
   differentiator per chain (``1-smo`` when every ``q_i = 1``)::
@@ -14,15 +16,14 @@ the observer is three pieces, each fed by the *measured* outputs:
       x̂_d' = (A_d − H_dd C_d) x̂_d + B_d (F_da x̂_a + F_db x̂_b) + B_0d y_0 + H_dd y_d + L_d(y_d − C_d x̂_d)
 
   with the gains of Theorem 2 from the input bounds (45) (Levant's parameters,
-  ``κ_{i,q_i} = 1.1 Δ_{d,i} > Δ_{d,i}``).
+  ``κ_{i,q_i} = 1.1 Δ_{d,i} > Δ_{d,i}``); or the discontinuous bi-homogeneous observer
+  (DBHO, (60)): the same linear part with Moreno's injection ``κ_j Φ_j(σ_i)``, ``d0 = −1``
+  (finite-time for ``−1 ≤ d_inf < 0``, fixed-time for ``0 < d_inf < 1/(q_i − 1)``,
+  Theorem 4).  The CBHO and DBHO gains are our rule (:mod:`uio_ring.design.bihom`).
 
 Then ``x̂ = Ts x̂̄``.  The error of each piece is (38), (40), (52): ``e_a' = A_a e_a``,
 ``e_b' = (A_b − L_b C_b) e_b`` — exactly, whatever ``w`` does — and the chains of
 ``e_d`` converge in finite time, one after another.
-
-Not implemented: the continuous bi-homogeneous observer on ``x_b`` (CBHO, (56)) and
-the discontinuous bi-homogeneous observer on ``x_d`` (DBHO, (60)); the paper gives
-no gains for them and the simulation engine has no bi-homogeneous injection term.
 
 >>> from uio_ring import DelaySystem
 >>> sys = DelaySystem("[[-2, 1, 0], [0, 0, 1], [0, 0, 0]]", "[[0], [0], [1]]", "[[0, 1, 0]]", None)
@@ -43,20 +44,21 @@ from uio_ring.analysis.observer_classes import ObserverOptions, observer_options
 from uio_ring.analysis.scb import SpecialCoordinateBasis
 from uio_ring.analysis.scb_steps import chain_starts
 from uio_ring.design.base import ObserverDesign, matrix_to_data
+from uio_ring.design.bihom import check_cbho, check_dbho, default_cbho, default_d_inf, scaled_gains
 from uio_ring.design.red_gains import levant_gains
-from uio_ring.errors import DimensionError, DomainError, NotObservableError, NotSupportedError
+from uio_ring.errors import DimensionError, DomainError, NotObservableError, NotSupportedError, OptionError
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
 from uio_ring.ring.qmatrix import QMatrix as Q
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["SCBDesign", "design_scb", "input_bound_d", "B_OBSERVERS", "D_OBSERVERS"]
+__all__ = ["SCBDesign", "design_scb", "input_bound_d", "sign_weight", "B_OBSERVERS", "D_OBSERVERS"]
 
-#: Observers of the ``x_b`` part that are built (Table 1 also lists the CBHO).
-B_OBSERVERS = ("linear",)
-#: Observers of the ``x_d`` part that are built (Table 1 also lists the DBHO).
-D_OBSERVERS = ("linear", "1-smo", "hosmo")
+#: Observers of the ``x_b`` part: Luenberger (39) or the continuous bi-homogeneous observer (56).
+B_OBSERVERS = ("linear", "cbho")
+#: Observers of the ``x_d`` part: (41), first-order SMO, HOSMO (47), discontinuous bi-homogeneous (60).
+D_OBSERVERS = ("linear", "1-smo", "hosmo", "dbho")
 
 
 def input_bound_d(G_d: Q, ranges: Sequence[tuple[Fraction, Fraction]]) -> tuple[Fraction, ...]:
@@ -134,6 +136,10 @@ class SCBDesign(ObserverDesign):
     reconstruct_input
         ``scb`` is the basis of the system of ``[x; w]`` driven by ``w'``
         (:meth:`~uio_ring.DelaySystem.input_augmented`): the observer estimates ``w`` as states.
+    b_profile, kappa_b
+        CBHO only: ``(d0, d_inf, mu)`` and the gains per ``x_b`` chain (top row first).
+    d_profile
+        DBHO only: ``(−1, d_inf, mu)`` (``kappa`` holds its gains).
     """
 
     method: ClassVar[str] = "scb"
@@ -148,6 +154,9 @@ class SCBDesign(ObserverDesign):
     Delta_d: tuple[Fraction, ...]
     kappa: tuple[tuple[Fraction, ...], ...]
     reconstruct_input: bool = False
+    b_profile: tuple[Fraction, Fraction, Fraction] | None = None
+    kappa_b: tuple[tuple[Fraction, ...], ...] = ()
+    d_profile: tuple[Fraction, Fraction, Fraction] | None = None
     options: ObserverOptions | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -177,7 +186,8 @@ class SCBDesign(ObserverDesign):
         Z = Q.zeros
         B0 = Q(s.B_0)
         B0a, B0b, B0d = B0.take_rows(range(na)), B0.take_rows(range(na, na + nb)), B0.take_rows(range(na + nb, na + nb + nd))
-        Lb = Q(self.L_b)
+        # the CBHO keeps only H_bb of L_b in its linear part: A_b − H_bb C_b = A_b* (Brunovsky), (56)
+        Lb = Q(s.H_bb) if self.b_observer == "cbho" else Q(self.L_b)
         Fa = [Q(s.A_a), Z(na, nb)]
         Fb = [Z(nb, na), Q(s.A_b) - Lb @ Q(s.C_b)]
         Ga = Q.hstack(B0a, Q(s.H_ad), Q(s.H_ab), rows=na)
@@ -219,11 +229,30 @@ class SCBDesign(ObserverDesign):
         initial = Tsi
         D_y = D_u = None
         injection = None
+        starts: list[int] = []
+        lengths: list[int] = []
+        gains: list[tuple[Fraction, ...]] = []
+        profiles: list[Any] = []
+        rows_y: list[Q] = []
+        if self.b_observer == "cbho" and s.n_b:  # b chains first: the d chains may read x̂_b (F_db)
+            starts += [s.n_a + k for k in chain_starts(s.l)]
+            lengths += list(s.l)
+            gains += list(self.kappa_b)
+            profiles += [self.b_profile] * len(s.l)
+            rows_y.append(To_inv.take_rows(range(s.m_0 + s.m_d, s.m_0 + s.m_d + s.p_b)))
         if self.d_dynamic:
+            starts += [nab + k for k in chain_starts(s.q)]
+            lengths += list(s.q)
+            gains += list(self.kappa)
+            profiles += [self.d_profile] * len(s.q)
+            rows_y.append(Syd)
+        if starts:
+            Sy = Q.vstack(*rows_y, cols=n_y)
             injection = injection_from_exact(
-                starts=tuple(nab + k for k in chain_starts(s.q)), lengths=s.q, gains=self.kappa,
-                sigma_y=Syd.to_polymatrix(), sigma_u=(-(Syd @ Fk)).to_polymatrix())
-        else:
+                starts=tuple(starts), lengths=tuple(lengths), gains=gains, sigma_y=Sy.to_polymatrix(),
+                sigma_u=(-(Sy @ Fk)).to_polymatrix(),
+                profiles=None if all(p is None for p in profiles) else tuple(profiles))
+        if not self.d_dynamic:
             # Remark 3: x̂_d = z_d + y_d with z_d' = −ρ z_d, z_d(0) = 0 is (41) exactly; ρ bounds the
             # spectrum of the x_a, x_b part (Gershgorin), so z_d never sets the decay rate
             rho = 1 + max((abs(v) for row in F.tolist() for v in row), default=0) * max(nab, 1)
@@ -253,6 +282,9 @@ class SCBDesign(ObserverDesign):
             "input_ranges": None if self.input_ranges is None else [[str(a), str(b)] for a, b in self.input_ranges],
             "Delta_d": [str(x) for x in self.Delta_d], "kappa": [[str(k) for k in ks] for ks in self.kappa],
             "reconstruct_input": self.reconstruct_input,
+            "b_profile": None if self.b_profile is None else [str(x) for x in self.b_profile],
+            "kappa_b": [[str(k) for k in ks] for ks in self.kappa_b],
+            "d_profile": None if self.d_profile is None else [str(x) for x in self.d_profile],
         }
 
     def to_latex(self) -> str:
@@ -282,11 +314,20 @@ class SCBDesign(ObserverDesign):
                  f"  (n_a, n_b, n_d) = ({s.n_a}, {s.n_b}, {s.n_d}), q = {s.q}, l = {s.l}"]
         if s.n_a:
             lines.append(f"  x_a: open-loop copy; error e_a' = A_a e_a, zeros of {s.invariant_zero_polynomial}")
-        if s.n_b:
+        if s.n_b and self.b_profile is not None:
+            d0, di, mu = self.b_profile
+            lines.append(f"  x_b: continuous bi-homogeneous (d0 = {d0}, d_inf = {di}, mu = {mu}), gains from "
+                         f"spec(A_b - L_b C_b) = {{{', '.join(str(p) for p in self.poles_b)}}}: "
+                         + "; ".join("(" + ", ".join(f"{float(k):.6g}" for k in ks) + ")" for ks in self.kappa_b))
+        elif s.n_b:
             lines.append(f"  x_b: Luenberger, spec(A_b - L_b C_b) = {{{', '.join(str(p) for p in self.poles_b)}}}")
         if s.n_d:
             what = {"linear": "x̂_d = y_d (exact)", "1-smo": "first-order sliding mode",
-                    "hosmo": "higher-order sliding mode (Levant differentiators)"}[self.d_observer]
+                    "hosmo": "higher-order sliding mode (Levant differentiators)",
+                    "dbho": "discontinuous bi-homogeneous"}[self.d_observer]
+            if self.d_profile is not None:
+                _, di, mu = self.d_profile
+                what += f" (d0 = -1, d_inf = {di}, mu = {mu}: {'fixed' if di > 0 else 'finite'}-time)"
             lines.append(f"  x_d: {what}")
             if self.kappa:
                 lines.append("  Δ_d = (" + ", ".join(f"{float(x):.6g}" for x in self.Delta_d) + "); gains "
@@ -308,6 +349,10 @@ def design_scb(
     gains: Sequence[Sequence[Any]] | None = None,
     reconstruct_input: bool = False,
     report: ObserverOptions | None = None,
+    d_inf: Any = None,
+    mu: Any = None,
+    b_d0: Any = None,
+    b_d_inf: Any = None,
 ) -> SCBDesign:
     """An unknown-input observer in the special coordinate basis (Tranninger et al. 2021, Section 5).
 
@@ -316,14 +361,17 @@ def design_scb(
     sys
         Delay-free and strongly detectable (:func:`~uio_ring.analysis.observer_options`).
     b_observer
-        ``"linear"`` (39).  (The CBHO of (56) is not implemented.)
+        ``"linear"`` (39) or ``"cbho"`` (56): the continuous bi-homogeneous observer, whose
+        gains are those of the Luenberger observer of ``poles_b`` divided by the
+        coefficients of Φ's limit at 0 (our rule, :mod:`uio_ring.design.bihom`).
     d_observer
-        ``"linear"`` (``x̂_d = y_d``, needs every ``q_i = 1``), ``"1-smo"`` or ``"hosmo"``
-        (47); default ``"linear"`` when every ``q_i = 1``, else ``"hosmo"``.
-        (The DBHO of (60) is not implemented.)
+        ``"linear"`` (``x̂_d = y_d``, needs every ``q_i = 1``), ``"1-smo"``, ``"hosmo"``
+        (47) or ``"dbho"`` (60); default ``"linear"`` when every ``q_i = 1``, else ``"hosmo"``.
+        The DBHO's gains are Levant's (Theorem 2's, from the bounds) divided by the
+        coefficients of Φ's limit at 0 (our rule), so its last gain times ``mu`` is ``1.1 Δ``.
     poles_b
         ``n_b`` exact rationals, ``spec(A_b − L_b C_b)``; chain i takes the next ``l_i``
-        (default: ``n_b`` poles at ``−⌈‖A‖∞⌉``).
+        (default: ``n_b`` poles at ``−⌈‖A‖∞⌉``); negative for the CBHO.
     input_bounds, input_ranges
         ``|w_i| ≤ L_i`` or ``w_i ∈ [lo_i, hi_i]`` (one of them; needed by the sliding-mode
         observers): the bounds (45) of ``w_d`` and the gains of Theorem 2.
@@ -334,13 +382,19 @@ def design_scb(
         ``w'`` (its chains are one longer), and the bounds are those of ``|w'|``.
     report
         The :func:`~uio_ring.analysis.observer_options` report, when computed already.
+    d_inf, mu
+        DBHO: the degree at infinity (``d0 = −1``; default ``4/5 · 1/(max q_i − 1)``, fixed-time;
+        ``−1 ≤ d_inf < 0`` is finite-time, ``−1`` is Levant's) and the weight ``mu ∈ (0, 1)``
+        of the two limits (default 1/2, shared with the CBHO).
+    b_d0, b_d_inf
+        CBHO: ``−1 < b_d0 < 0 < b_d_inf < min 1/(l_i − 1)`` (default −1/2 and ``4/5 · 1/(max l_i − 1)``).
 
     Raises
     ------
     NotObservableError
         Not strongly detectable (the report says why), or the system has delays.
-    NotSupportedError
-        ``b_observer="cbho"`` or ``d_observer="dbho"``.
+    OptionError
+        A bi-homogeneous degree or ``mu`` outside the paper's ranges (the reason is said).
     DimensionError, DomainError
         Bad option shapes or values; ``x̂_d = y_d`` asked with a chain longer than 1;
         missing bounds for a sliding-mode observer; gains violating ``κ_{i,q_i} > Δ_{d,i}``.
@@ -362,13 +416,11 @@ def design_scb(
     s = rep.scb
     assert s is not None
     if b_observer not in B_OBSERVERS:
-        raise NotSupportedError(f"b_observer={b_observer!r}: only {', '.join(B_OBSERVERS)} is built (the "
-                                "continuous bi-homogeneous observer of Tranninger et al. (56) is not implemented)")
+        raise NotSupportedError(f"b_observer={b_observer!r}: one of {', '.join(B_OBSERVERS)}")
     unit = all(k == 1 for k in s.q)
     d_obs = ("linear" if unit else "hosmo") if d_observer is None else d_observer
     if d_obs not in D_OBSERVERS:
-        raise NotSupportedError(f"d_observer={d_obs!r}: one of {', '.join(D_OBSERVERS)} (the discontinuous "
-                                "bi-homogeneous observer of Tranninger et al. (60) is not implemented)")
+        raise NotSupportedError(f"d_observer={d_obs!r}: one of {', '.join(D_OBSERVERS)}")
     if d_obs in ("linear", "1-smo") and not unit:
         raise DomainError(f"d_observer={d_obs!r} needs every chain of length 1 (strong* detectable); the chains "
                           f"have lengths q = {s.q}: use 'hosmo'")
@@ -381,6 +433,32 @@ def design_scb(
         if len(poles) != s.n_b:
             raise DimensionError(f"poles_b has {len(poles)} entries; the x_b part has n_b = {s.n_b} states "
                                  f"(chains l = {s.l})")
+    mu_v = Fraction(1, 2) if mu is None else exact_fraction(mu, "mu")
+    d_prof = b_prof = None
+    if d_obs == "dbho":
+        di = default_d_inf(s.q) if d_inf is None else exact_fraction(d_inf, "d_inf")
+        check_dbho(s.q, di, mu_v)
+        d_prof = (Fraction(-1), di, mu_v)
+    elif d_inf is not None:
+        raise OptionError("d_inf is an option of d_observer: dbho", option="d_inf")
+    kappa_b: tuple[tuple[Fraction, ...], ...] = ()
+    if b_observer == "cbho":
+        dflt = default_cbho(s.l)
+        bd0 = dflt[0] if b_d0 is None else exact_fraction(b_d0, "b_d0")
+        bdi = dflt[1] if b_d_inf is None else exact_fraction(b_d_inf, "b_d_inf")
+        check_cbho(s.l, bd0, bdi, mu_v)
+        if any(p >= 0 for p in poles):
+            raise OptionError("poles_b: the CBHO's gains come from a Luenberger design with negative poles",
+                              option="poles_b")
+        b_prof = (bd0, bdi, mu_v)
+        K = Q(_luenberger_gain(s, poles)) - Q(s.H_bb)
+        kappa_b = tuple(scaled_gains([K.tolist()[s0 + k][i] for k in range(li)], li, bd0, bdi, mu_v)
+                        for i, (s0, li) in enumerate(zip(chain_starts(s.l), s.l, strict=True)))
+    elif b_d0 is not None or b_d_inf is not None:
+        raise OptionError("b_d0 and b_d_inf are options of b_observer: cbho",
+                          option="b_d0" if b_d0 is not None else "b_d_inf")
+    if mu is not None and d_prof is None and b_prof is None:
+        raise OptionError("mu is an option of the bi-homogeneous observers (cbho, dbho)", option="mu")
     ranges = _ranges(input_bounds, input_ranges, sys.n_w)  # of w, or of w' with reconstruct_input
     Delta: tuple[Fraction, ...] = ()
     kappa: tuple[tuple[Fraction, ...], ...] = ()
@@ -399,9 +477,27 @@ def design_scb(
         else:
             # Levant's gains need L > 0; a zero bound (w_d ≡ 0) still gets a small positive gain
             kappa = tuple(levant_gains(qi, D if D > 0 else Fraction(1, 10**6)) for qi, D in zip(s.q, Delta, strict=True))
-        if Delta and any(k[-1] <= D for k, D in zip(kappa, Delta, strict=True)):
-            raise DomainError("gains: Theorem 2 needs κ_{i,q_i} > Δ_{d,i} (" + ", ".join(
-                f"{float(k[-1]):.6g} vs {float(D):.6g}" for k, D in zip(kappa, Delta, strict=True)) + ")")
+            if d_prof is not None:
+                kappa = tuple(scaled_gains(k, qi, *d_prof) for k, qi in zip(kappa, s.q, strict=True))
+        w = sign_weight(d_prof)
+        if Delta and any(w * k[-1] <= D for k, D in zip(kappa, Delta, strict=True)):
+            raise DomainError(("gains: Theorem 2 needs κ_{i,q_i} > Δ_{d,i} (" if w == 1 else
+                               f"gains: the DBHO's sign term needs mu·κ_(i,q_i) > Δ_(d,i), mu = {w} (")
+                              + ", ".join(f"{float(w * k[-1]):.6g} vs {float(D):.6g}"
+                                          for k, D in zip(kappa, Delta, strict=True)) + ")")
     return SCBDesign(system=sys, scb=s, b_observer=b_observer, d_observer=d_obs, poles_b=poles,
                      L_b=_luenberger_gain(s, poles).to_polymatrix(), input_ranges=ranges, Delta_d=Delta,
-                     kappa=kappa, reconstruct_input=reconstruct_input, options=rep)
+                     kappa=kappa, reconstruct_input=reconstruct_input, b_profile=b_prof, kappa_b=kappa_b,
+                     d_profile=d_prof, options=rep)
+
+
+def sign_weight(profile: tuple[Fraction, Fraction, Fraction] | None) -> Fraction:
+    """The weight of the sign term in ``Φ_q`` at the origin: 1 for Levant's chains (and the DBHO
+    with ``d_inf = −1``), ``mu`` for a DBHO with ``d_inf > −1``.
+
+    >>> sign_weight(None), sign_weight((Fraction(-1), Fraction(1, 4), Fraction(1, 3)))
+    (Fraction(1, 1), Fraction(1, 3))
+    """
+    if profile is None or profile[1] == profile[0]:
+        return Fraction(1)
+    return profile[2]

@@ -63,13 +63,17 @@ def model_from_exact(*, F: Any, G_y: Any, X: Any, G_u: Any = None, D_y: Any = No
 
 
 def injection_from_exact(*, starts: tuple[int, ...], lengths: tuple[int, ...], gains: Any, sigma_y: Any,
-                         sigma_u: Any, sigma_xi: Any = None, discretisation: str = "implicit") -> LevantInjection:
-    """:class:`LevantInjection` from exact gains and constant exact σ maps."""
+                         sigma_u: Any, sigma_xi: Any = None, discretisation: str = "implicit",
+                         profiles: Any = None) -> LevantInjection:
+    """:class:`LevantInjection` from exact gains and constant exact σ maps (``profiles``: per chain
+    None or an exact ``(d0, d_inf, mu)``)."""
     return LevantInjection(
         starts=tuple(starts), lengths=tuple(lengths),
         gains=tuple(tuple(exact_to_float(k, f"gain {i}.{j}") for j, k in enumerate(ks)) for i, ks in enumerate(gains)),
         sigma_y=constant_array(sigma_y, "sigma_y"), sigma_u=constant_array(sigma_u, "sigma_u"),
         discretisation=discretisation, sigma_xi=None if sigma_xi is None else constant_array(sigma_xi, "sigma_xi"),
+        profiles=None if profiles is None else tuple(
+            None if p is None else tuple(exact_to_float(x, "profile") for x in p) for p in profiles),
     )
 
 

@@ -72,6 +72,12 @@ class LevantInjection:
     ``discretisation`` is one of :data:`DISCRETISATIONS` (default ``"implicit"``).  The
     implicit step solves the chains in order: ``σ_j`` may read the states of earlier chains
     and of the linear part, not those of chain ``j`` or later ones (checked by the stepper).
+
+    ``profiles`` (optional, one entry per chain, None = Levant's): the exponent profile
+    ``(d0, d_inf, mu)`` of a bi-homogeneous chain (Moreno's differentiator): row ``k`` gets
+    ``gains[j][k − 1] Φ_k(σ_j)`` with Φ of :mod:`uio_ring.numeric.bihom`.  ``(−1, −1, any)`` is
+    Levant's chain (and is stepped by the same code).  ``−1 ≤ d0 ≤ d_inf``, ``0 < mu < 1``,
+    ``r_{·,i} = 1 − (μ − i) d > 0`` for ``i < μ``.
     """
 
     starts: tuple[int, ...]
@@ -81,6 +87,7 @@ class LevantInjection:
     sigma_u: np.ndarray
     discretisation: str = "implicit"
     sigma_xi: Any = None
+    profiles: tuple[tuple[float, float, float] | None, ...] | None = None
 
     def __post_init__(self) -> None:
         if self.discretisation not in DISCRETISATIONS:
@@ -90,11 +97,28 @@ class LevantInjection:
         for j, (g, m) in enumerate(zip(self.gains, self.lengths, strict=True)):
             if len(g) != m or any(not (x > 0) for x in g):
                 raise SimulationError(f"LevantInjection: chain {j + 1} needs {m} positive gains, got {g}")
+        if self.profiles is not None:
+            if len(self.profiles) != len(self.starts):
+                raise DimensionError("LevantInjection: one exponent profile (or None) per chain")
+            for j, (prof, m) in enumerate(zip(self.profiles, self.lengths, strict=True)):
+                if prof is None:
+                    continue
+                d0, dinf, mu = (float(x) for x in prof)
+                if not (-1.0 <= d0 <= dinf and 0.0 < mu < 1.0 and 1.0 - (m - 1) * dinf > 0.0):
+                    raise SimulationError(f"LevantInjection: chain {j + 1}: the profile (d0, d_inf, mu) = {prof} "
+                                          f"needs -1 <= d0 <= d_inf < 1/(q - 1) (q = {m}) and 0 < mu < 1")
+
+    def profile(self, j: int) -> tuple[float, float, float] | None:
+        """Chain ``j``'s exponent profile; None for Levant's (also when given as ``(−1, −1, ·)``)."""
+        prof = None if self.profiles is None else self.profiles[j]
+        if prof is None or (prof[0] == -1 and prof[1] == -1):
+            return None
+        return (float(prof[0]), float(prof[1]), float(prof[2]))
 
     def with_discretisation(self, discretisation: str) -> LevantInjection:
         """The same term, discretised another way."""
         return LevantInjection(self.starts, self.lengths, self.gains, self.sigma_y, self.sigma_u, discretisation,
-                               self.sigma_xi)
+                               self.sigma_xi, self.profiles)
 
 
 @dataclass(frozen=True, eq=False)
@@ -278,6 +302,8 @@ class ObserverModel:
             "sigma_u": inj.sigma_u.tolist(), "discretisation": inj.discretisation,
             "sigma_xi": None if inj.sigma_xi is None else np.asarray(inj.sigma_xi).tolist(),
         }
+        if inj is not None and inj.profiles is not None:
+            out["injection"]["profiles"] = [None if p is None else [float(x) for x in p] for p in inj.profiles]
         hi = self.held_input
         out["held_input"] = None if hi is None else {"A": hi.A.tolist(), "B": hi.B.tolist(), "M": hi.M.tolist()}
         return out
@@ -303,6 +329,8 @@ class ObserverModel:
             sigma_u=np.asarray(inj["sigma_u"], float).reshape(len(inj["starts"]), n_u),
             discretisation=inj["discretisation"],
             sigma_xi=None if inj.get("sigma_xi") is None else np.asarray(inj["sigma_xi"], float),
+            profiles=None if inj.get("profiles") is None else tuple(
+                None if p is None else (float(p[0]), float(p[1]), float(p[2])) for p in inj["profiles"]),
         )
         hi = data.get("held_input")
         held = None if hi is None else HeldInput(*(np.asarray(hi[k], float) for k in "ABM"))

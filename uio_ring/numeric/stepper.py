@@ -47,6 +47,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from uio_ring.errors import DimensionError, SimulationError
+from uio_ring.numeric.bihom import chain_exponents, phi_values, solve_bihom_chain
 from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
 from uio_ring.numeric.grid import as_float, steps_per_delay
 from uio_ring.numeric.model import DISCRETISATIONS, ObserverModel
@@ -156,6 +157,12 @@ class _Injection:
         self.kappa = [np.array(g) for g in self.kap]
         self.exp = [[(m - k) / m for k in range(1, m + 1)] for m in self.mu]
         self.exponents = [np.array(e) for e in self.exp]
+        # bi-homogeneous chains (None: Levant's): (p_0, p_∞, μ) and the last step's |σ| (Newton's start)
+        self.bihom: list[tuple[list[float], list[float], float] | None] = []
+        for j, m in enumerate(self.mu):
+            prof = inj.profile(j)
+            self.bihom.append(None if prof is None else (*chain_exponents(m, prof[0], prof[1]), prof[2]))
+        self._guess = [0.0] * len(self.mu)
         self.Kl, self.n = Kl, n
         p = len(self.starts)
         Sxi = np.zeros((p, n)) if inj.sigma_xi is None else np.asarray(inj.sigma_xi, float)
@@ -200,8 +207,9 @@ class _Injection:
                 cur.append(j)
         layers = []
         for group in out:
-            pairs = np.array([j for j in group if self.mu[j] == 2], dtype=int)
-            layers.append((pairs, [j for j in group if self.mu[j] != 2]))
+            closed = [j for j in group if self.mu[j] == 2 and self.bihom[j] is None]
+            pairs = np.array(closed, dtype=int)
+            layers.append((pairs, [j for j in group if j not in closed]))
         self._pair_tables = [self._pair_table(pairs, first=i == 0) for i, (pairs, _) in enumerate(layers)]
         return layers
 
@@ -229,7 +237,11 @@ class _Injection:
         out = np.zeros(self.n)
         for j, (s, m) in enumerate(zip(self.starts, self.mu, strict=True)):
             sj = sigma[j]
-            out[s : s + m] = self.kappa[j] * np.abs(sj) ** self.exponents[j] * np.sign(sj)
+            bh = self.bihom[j]
+            if bh is None:
+                out[s : s + m] = self.kappa[j] * np.abs(sj) ** self.exponents[j] * np.sign(sj)
+            else:
+                out[s : s + m] = self.kappa[j] * np.array(phi_values(float(sj), *bh))
         return out
 
     def implicit(self, lin: np.ndarray, meas_next: np.ndarray) -> np.ndarray:
@@ -261,8 +273,18 @@ class _Injection:
 
     def _solve_one(self, j: int, a: float, lvec: np.ndarray) -> None:
         s, m = self.starts[j], self.mu[j]
+        kap, bh = self.kap[j], self.bihom[j]
+        if bh is not None:  # bi-homogeneous chain: a monotone scalar equation in σ (set-valued at 0 if d0 = −1)
+            sig, v = solve_bihom_chain(a, [*self.coef[j], self.s0[j]], *bh, guess=self._guess[j])
+            self._guess[j] = abs(sig)
+            if sig == 0.0:
+                lvec[s : s + m - 1] = 0.0
+                lvec[s + m - 1] = kap[m - 1] * (v / self.s0[j])
+            else:
+                lvec[s : s + m] = np.multiply(kap, phi_values(sig, *bh))
+            return
         sig, sg = solve_chain(a, self.coef[j], self.s0[j], m)
-        kap, ex = self.kap[j], self.exp[j]
+        ex = self.exp[j]
         if sig == 0.0:
             lvec[s + m - 1] = kap[m - 1] * sg
         else:

@@ -28,7 +28,8 @@ def scb_design_certificate(d: Any) -> Certificate:
     then the observer: ``A_a`` Hurwitz (e_a decays), ``spec(A_b − L_b C_b)`` equals ``poles_b``
     (40), the error identities ``Ā − G C̄ = F`` and ``B̄ − G D̄ = [0, [0; 0; B_d]]`` (the
     unknown input reaches the error only at the ends of the x_d chains — not at all when
-    ``x̂_d = y_d``), the bounds (45) and Theorem 2's ``κ_{i,q_i} > Δ_{d,i}``.
+    ``x̂_d = y_d``), the bounds (45) and Theorem 2's ``κ_{i,q_i} > Δ_{d,i}``; for the
+    bi-homogeneous observers the exponent ranges of Theorems 3 and 4 and ``μ κ_{i,q_i} > Δ_{d,i}``.
     """
     from uio_ring.analysis.strong_observability import is_hurwitz_polynomial
     from uio_ring.design.scb import input_bound_d
@@ -83,4 +84,41 @@ def scb_design_certificate(d: Any) -> Certificate:
         add("Theorem 2: κ_{i,q_i} > Δ_{d,i}", "the last gain of each chain dominates its unknown input",
             lambda: None if all(k[-1] > D for k, D in zip(d.kappa, d.Delta_d, strict=True)) else
             f"last gains {[str(k[-1]) for k in d.kappa]} vs Δ_d {[str(x) for x in d.Delta_d]}")
+    _bihom_checks(d, add)
     return Certificate("special coordinate basis observer", checks)
+
+
+def _bihom_checks(d: Any, add: Any) -> None:
+    """Theorems 3 and 4: the exponent ranges of the bi-homogeneous observers, the exponents'
+    ordering at 0 and ∞ and the sign term's dominance ``μ κ_{i,q_i} > Δ_{d,i}`` (exact)."""
+    from fractions import Fraction
+
+    from uio_ring.design.bihom import exponents
+    from uio_ring.design.scb import sign_weight
+
+    s = d.scb
+
+    def ranges(lengths: Any, d0: Fraction, dinf: Fraction, mu: Fraction, dbho: bool) -> Any:
+        bound = None if max(lengths, default=1) <= 1 else Fraction(1, max(lengths) - 1)
+        below = bound is None or dinf < bound
+        ok = (d0 == -1 and (-1 <= dinf < 0 or (0 < dinf and below))) if dbho else (-1 < d0 < 0 < dinf and below)
+        if not (ok and 0 < mu < 1):
+            return f"(d0, d_inf, mu) = ({d0}, {dinf}, {mu}) outside the range for chains {tuple(lengths)}"
+        bad = [(k, i) for k in lengths for i, (a, b) in enumerate(zip(exponents(k, d0), exponents(k, dinf),
+                                                                     strict=True)) if not (0 <= a <= b)]
+        return f"exponents p_0 > p_inf or negative at (chain length, row) {bad}" if bad else None
+
+    if d.b_profile is not None:
+        add("Theorem 3: CBHO exponents", "-1 < d0 < 0 < d_inf < min 1/(l_i - 1), 0 < mu < 1; 0 <= p_0,i <= p_inf,i",
+            lambda: ranges(s.l, *d.b_profile, dbho=False))
+        add("CBHO gains positive", "one positive gain per row of each x_b chain",
+            lambda: None if [len(k) for k in d.kappa_b] == list(s.l) and all(v > 0 for k in d.kappa_b for v in k)
+            else f"gains {d.kappa_b} for chains {s.l}")
+    if d.d_profile is not None:
+        add("Theorem 4: DBHO exponents", "d0 = -1, -1 <= d_inf < 0 or 0 < d_inf < min 1/(q_i - 1), 0 < mu < 1; "
+            "0 <= p_0,i <= p_inf,i", lambda: ranges(s.q, *d.d_profile, dbho=True))
+        if d.kappa and d.Delta_d:
+            w = sign_weight(d.d_profile)
+            add("DBHO: mu κ_{i,q_i} > Δ_{d,i}", "the sign term of Φ_q (weight mu at the origin) dominates the input",
+                lambda: None if all(w * k[-1] > D for k, D in zip(d.kappa, d.Delta_d, strict=True)) else
+                f"mu κ_q = {[str(w * k[-1]) for k in d.kappa]} vs Δ_d {[str(x) for x in d.Delta_d]}")
