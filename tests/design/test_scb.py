@@ -170,10 +170,10 @@ def test_refusals():
         design_scb(unstable, input_bounds=1)
     with pytest.raises(DomainError, match="needs every chain of length 1"):
         design_scb(paper003(), d_observer="linear")
-    with pytest.raises(NotSupportedError, match="bi-homogeneous"):
-        design_scb(paper003(), b_observer="cbho")
-    with pytest.raises(NotSupportedError, match="bi-homogeneous"):
-        design_scb(paper003(), d_observer="dbho")
+    with pytest.raises(NotSupportedError, match="one of linear, cbho"):
+        design_scb(paper003(), b_observer="moreno")
+    with pytest.raises(NotSupportedError, match="one of linear, 1-smo, hosmo, dbho"):
+        design_scb(paper003(), d_observer="sliding")
     with pytest.raises(DimensionError, match="needs input_bounds or input_ranges"):
         design_scb(paper003())
     with pytest.raises(DimensionError, match="poles_b has 1"):
@@ -189,7 +189,7 @@ def test_spec_options_are_checked():
 
     m = get_method("scb")
     assert m.read_options({"d_observer": "hosmo", "poles_b": ["-8", -6]})["poles_b"] == (-8, -6)
-    with pytest.raises(SpecError, match="expected one of linear, 1-smo, hosmo") as exc:
+    with pytest.raises(SpecError, match="expected one of linear, 1-smo, hosmo, dbho") as exc:
         m.read_options({"d_observer": "sliding"})
     assert exc.value.path == "design.d_observer"
 

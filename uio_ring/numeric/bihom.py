@@ -75,7 +75,8 @@ def solve_bihom_chain(a: float, coef: list[float], p0: list[float], pinf: list[f
     ``w_0`` the weight of the zero powers of ``φ_q`` (``μ`` for a DBHO with ``d0 = −1 < d_inf``,
     1 for Levant's, 0 for a continuous profile).  So ``σ = 0`` when ``|a| ≤ J``; otherwise the
     root in ``(0, |a|)`` by Newton's method kept inside a shrinking bracket (bisection when a
-    step leaves it), started from ``guess`` (the last step's ``|σ|``).
+    step leaves it, geometric while the bracket spans decades), started from ``guess`` (the
+    last step's ``|σ|``).
 
     >>> p0, pinf = chain_exponents(1, -1.0, -1.0)
     >>> solve_bihom_chain(0.5, [1.0], p0, pinf, 0.5), solve_bihom_chain(3.0, [1.0], p0, pinf, 0.5)
@@ -91,8 +92,15 @@ def solve_bihom_chain(a: float, coef: list[float], p0: list[float], pinf: list[f
         return 0.0, a
     lo, hi = 0.0, c
     s = guess if 0.0 < guess < c else 0.5 * c
-    for _ in range(200):
-        vals, slopes = phi_values_and_slopes(s, p0, pinf, mu)
+    for _ in range(300):
+        if s <= 0.0:  # the root underflows: σ = the bracket's top (below the smallest double's reach)
+            s = hi
+            break
+        try:
+            vals, slopes = phi_values_and_slopes(s, p0, pinf, mu)
+        except ZeroDivisionError:  # an inner value underflowed: step by bisection
+            lo, s = s, (hi / 256.0 if s == 0.0 else math.sqrt(s * hi))
+            continue
         f = s - c
         df = 1.0
         for k in range(q):
@@ -105,8 +113,8 @@ def solve_bihom_chain(a: float, coef: list[float], p0: list[float], pinf: list[f
         else:
             break
         s_new = s - f / df
-        if not (lo < s_new < hi):
-            s_new = 0.5 * (lo + hi)
+        if not (lo < s_new < hi):  # bisection: geometric while the bracket spans decades (tiny roots)
+            s_new = hi / 256.0 if lo == 0.0 else (math.sqrt(lo * hi) if hi > 4.0 * lo else 0.5 * (lo + hi))
         if abs(s_new - s) <= 4e-16 * s or hi - lo <= 4e-16 * hi:
             s = s_new
             break
