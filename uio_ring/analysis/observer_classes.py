@@ -12,7 +12,7 @@ From the special coordinate basis (:mod:`uio_ring.analysis.scb`):
   is **linear**; otherwise ``x_d`` needs sliding-mode differentiators (HOSMO/DBHO).
 
 The parts, as Table 1: ``x̂_a`` linear (asymptotic) when ``n_a > 0``; ``x̂_b`` linear
-(asymptotic, assignable rate) or CBHO (finite-/fixed-time); ``x̂_d`` linear exact
+(asymptotic, assignable rate) or CBHO (fixed-time); ``x̂_d`` linear exact
 (``x̂_d = y_d``) or 1-SMO when every ``q_i = 1``, else HOSMO (finite-time) or DBHO.
 
 >>> from uio_ring import DelaySystem
@@ -176,12 +176,12 @@ def observer_options(sys: DelaySystem) -> ObserverOptions:
             "dynamics x_a cannot be reconstructed, not even asymptotically", dims, scb, False, False, False, "none",
             zero_polynomial=zp)
     x_a = ("linear copy, asymptotic at the invariant zeros' rate",) if scb.n_a else ()
-    x_b = ("linear (asymptotic, assignable poles)", "CBHO (finite-/fixed-time; not built by uio_ring)") if scb.n_b else ()
+    x_b = ("linear (asymptotic, assignable poles)", "CBHO (fixed-time)") if scb.n_b else ()
     if not scb.n_d:
         x_d: tuple[str, ...] = ()
     elif all(k == 1 for k in scb.q):
         x_d = ("linear, exact (x̂_d = y_d)", "1-SMO (finite-time)")
     else:
-        x_d = ("HOSMO (finite-time)", "DBHO (finite-/fixed-time; not built by uio_ring)")
+        x_d = ("HOSMO (finite-time)", "DBHO (finite-/fixed-time)")
     return ObserverOptions(True, "", dims, scb, observable, True, star, "finite-time" if observable else "asymptotic",
                            x_a, x_b, x_d, zero_polynomial=zp)

@@ -24,6 +24,10 @@ grid ``dt = h/N`` (a delay-free model takes ``h = dt``):
   backward difference of its input, so no step-to-step oscillation is left and a cascade
   of differentiators stays first order in dt; chains solved in order),
   ``"explicit"`` (σ at ``t_k``) or ``"euler"`` (explicit Euler of the whole observer).
+  Bi-homogeneous chains (a ``profiles`` entry, Moreno's injection) take the same implicit
+  step: σ at ``t_{k+1}`` solves the scalar, odd, strictly increasing inclusion
+  ``σ + Σ_k w_k κ_k Φ_k(σ) ∋ a`` (σ = 0 inside the jump of the sign part when d0 = −1,
+  else bracketed Newton, :func:`~uio_ring.numeric.bihom.solve_bihom_chain`).
 
 Before the first sample, y and u are held at their first value unless histories
 are given; ẑ is held at ẑ(0).
