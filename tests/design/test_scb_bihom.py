@@ -20,7 +20,12 @@ from uio_ring.design.bihom import exponents, zero_limit_coefficients
 from uio_ring.design.red_gains import levant_gains
 from uio_ring.design.scb import design_scb
 from uio_ring.errors import OptionError, SpecError
-from uio_ring.numeric.bihom import chain_exponents, phi_values, phi_values_and_slopes, solve_bihom_chain
+from uio_ring.numeric.bihom import (
+    chain_exponents,
+    phi_values,
+    phi_values_and_slopes,
+    solve_bihom_chain,
+)
 from uio_ring.ring.qmatrix import QMatrix as Q
 from uio_ring.sim.engine import simulate_observer
 

@@ -46,7 +46,13 @@ from uio_ring.analysis.scb_steps import chain_starts
 from uio_ring.design.base import ObserverDesign, matrix_to_data
 from uio_ring.design.bihom import check_cbho, check_dbho, default_cbho, default_d_inf, scaled_gains
 from uio_ring.design.red_gains import levant_gains
-from uio_ring.errors import DimensionError, DomainError, NotObservableError, NotSupportedError, OptionError
+from uio_ring.errors import (
+    DimensionError,
+    DomainError,
+    NotObservableError,
+    NotSupportedError,
+    OptionError,
+)
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction

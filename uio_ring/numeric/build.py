@@ -73,7 +73,8 @@ def injection_from_exact(*, starts: tuple[int, ...], lengths: tuple[int, ...], g
         sigma_y=constant_array(sigma_y, "sigma_y"), sigma_u=constant_array(sigma_u, "sigma_u"),
         discretisation=discretisation, sigma_xi=None if sigma_xi is None else constant_array(sigma_xi, "sigma_xi"),
         profiles=None if profiles is None else tuple(
-            None if p is None else tuple(exact_to_float(x, "profile") for x in p) for p in profiles),
+            None if p is None else (exact_to_float(p[0], "d0"), exact_to_float(p[1], "d_inf"), exact_to_float(p[2], "mu"))
+            for p in profiles),
     )
 
 

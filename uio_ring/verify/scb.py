@@ -98,7 +98,8 @@ def _bihom_checks(d: Any, add: Any) -> None:
 
     s = d.scb
 
-    def ranges(lengths: Any, d0: Fraction, dinf: Fraction, mu: Fraction, dbho: bool) -> Any:
+    def ranges(lengths: Any, profile: Any, *, dbho: bool) -> Any:
+        d0, dinf, mu = profile
         bound = None if max(lengths, default=1) <= 1 else Fraction(1, max(lengths) - 1)
         below = bound is None or dinf < bound
         ok = (d0 == -1 and (-1 <= dinf < 0 or (0 < dinf and below))) if dbho else (-1 < d0 < 0 < dinf and below)
@@ -110,13 +111,13 @@ def _bihom_checks(d: Any, add: Any) -> None:
 
     if d.b_profile is not None:
         add("Theorem 3: CBHO exponents", "-1 < d0 < 0 < d_inf < min 1/(l_i - 1), 0 < mu < 1; 0 <= p_0,i <= p_inf,i",
-            lambda: ranges(s.l, *d.b_profile, dbho=False))
+            lambda: ranges(s.l, d.b_profile, dbho=False))
         add("CBHO gains positive", "one positive gain per row of each x_b chain",
             lambda: None if [len(k) for k in d.kappa_b] == list(s.l) and all(v > 0 for k in d.kappa_b for v in k)
             else f"gains {d.kappa_b} for chains {s.l}")
     if d.d_profile is not None:
         add("Theorem 4: DBHO exponents", "d0 = -1, -1 <= d_inf < 0 or 0 < d_inf < min 1/(q_i - 1), 0 < mu < 1; "
-            "0 <= p_0,i <= p_inf,i", lambda: ranges(s.q, *d.d_profile, dbho=True))
+            "0 <= p_0,i <= p_inf,i", lambda: ranges(s.q, d.d_profile, dbho=True))
         if d.kappa and d.Delta_d:
             w = sign_weight(d.d_profile)
             add("DBHO: mu κ_{i,q_i} > Δ_{d,i}", "the sign term of Φ_q (weight mu at the origin) dominates the input",
