@@ -51,8 +51,9 @@ def _settle(t: np.ndarray, e: np.ndarray, tol: float = 1e-2) -> float:
     return np.inf if bad[-1] == t.size - 1 else float(t[bad[-1] + 1])
 
 
-def _errors(d, scale: float, t_final: float, dt: float = 2e-3) -> tuple[np.ndarray, np.ndarray]:
-    res = simulate_observer(d, t_final=t_final, dt=dt, w=_w, x0=X0, x_hat0=X0 + scale * V, progress=False)
+def _errors(d, scale: float, t_final: float, dt: float = 2e-3, check: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    res = simulate_observer(d, t_final=t_final, dt=dt, w=_w, x0=X0, x_hat0=X0 + scale * V, progress=False,
+                            check=check)
     Tsi = np.linalg.inv(np.array(Q(d.scb.Ts).tolist(), float))
     return res.t, Tsi @ (res.x - res.x_hat)
 
@@ -199,10 +200,26 @@ def settle_times():
     for name, d in designs.items():
         rows = []
         for sc in SCALES:
-            t, e = _errors(d, sc, 30.0)
+            # a fixed-time observer peaks without bound as dt shrinks (its injection grows like |e|^(1+d_inf)
+            # at infinity), so the engine's accuracy check rightly calls the transient unresolved for large
+            # errors; the settle time is what is measured, and its convergence in dt is tested below
+            t, e = _errors(d, sc, 30.0, check=False)
             rows.append((_settle(t, e[:2]), _settle(t, e[2:])))
         out[name] = rows
     return out
+
+
+def test_fixed_time_settle_times_converge_in_dt():
+    """The settle times of the bi-homogeneous observers are numerically converged (dt vs dt/2), although
+    the peak of the transient is not: it grows as dt shrinks."""
+    d = design_scb(STRONG, poles_b=[-2, -2], input_bounds=[1], d_observer="dbho", b_observer="cbho")
+    got = []
+    for dt in (2e-3, 1e-3):
+        t, e = _errors(d, 1e4, 25.0, dt=dt, check=False)
+        got.append((_settle(t, e[:2]), _settle(t, e[2:]), np.max(np.abs(e))))
+    (b1, d1, p1), (b2, d2, p2) = got
+    assert abs(b1 - b2) < 0.05 and abs(d1 - d2) < 0.2, got
+    assert p2 > 2 * p1  # the peak is not resolved: it grows as dt halves
 
 
 def test_fixed_time_dbho_and_cbho(settle_times):
