@@ -43,13 +43,19 @@ __all__ = [
     "xgcd",
     "gcd",
     "height",
+    "bits",
     "mat_from_rows",
     "mat_rank",
     "mat_det",
     "mat_entries",
+    "IntPoly",
+    "integer_row",
+    "from_integer",
 ]
 
 RawPoly = flint.fmpq_poly
+#: Z[δ], for fraction-free elimination (:mod:`uio_ring.ring._fraction_free`).
+IntPoly = flint.fmpz_poly
 Rat = flint.fmpq
 Scalar = int | Fraction
 
@@ -133,6 +139,11 @@ def xgcd(a: flint.fmpq_poly, b: flint.fmpq_poly):
 def gcd(a: flint.fmpq_poly, b: flint.fmpq_poly) -> flint.fmpq_poly:
     """Monic gcd (0 if both are 0)."""
     return a.gcd(b)
+
+
+def bits(p: flint.fmpq_poly) -> int:
+    """Bits of the largest numerator coefficient plus those of the denominator."""
+    return int(p.numer().height_bits()) + int(p.denom().bit_length())
 
 
 def height(p: flint.fmpq_poly) -> int:
@@ -219,3 +230,22 @@ def mat_det(a: flint.fmpq_mat) -> flint.fmpq:
 
 def mat_entries(a: flint.fmpq_mat) -> list[flint.fmpq]:
     return list(a.entries())
+
+
+def integer_row(row: Sequence[flint.fmpq_poly]) -> tuple[list[flint.fmpz_poly], flint.fmpz]:
+    """``(c·row, c)`` with c > 0 the least common denominator of the row's coefficients:
+    an integer row that spans the same Q[δ]-module (c is a unit of Q[δ]).
+
+    >>> integer_row([from_coeffs([Fraction(1, 2)]), from_coeffs([0, Fraction(1, 3)])])
+    ([fmpz_poly([3]), fmpz_poly([0, 2])], 6)
+    """
+    den = flint.fmpz(1)
+    for p in row:
+        q = p.denom()
+        den = den * q // den.gcd(q)
+    return [(p * den).numer() for p in row], den
+
+
+def from_integer(p: flint.fmpz_poly) -> flint.fmpq_poly:
+    """The polynomial of Z[δ] as an element of Q[δ]."""
+    return flint.fmpq_poly(p)

@@ -15,7 +15,9 @@ Rank
     ≤ r while some point gives r, the rank is exactly r.  Evaluation stops at
     once when the rank reaches min(m, n).
 Determinant
-    ``det M(x)`` at ``b_n + 1`` points, then interpolation.
+    Bareiss' fraction-free elimination over Z[δ] (:mod:`uio_ring.ring._fraction_free`)
+    for small n, high degree or large coefficients; otherwise ``det M(x)`` at
+    ``b_n + 1`` points, then interpolation.
 
 Degrees: ``deg 0 = -1``.
 """
@@ -29,6 +31,7 @@ import flint
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
+from uio_ring.ring import _fraction_free as ff
 
 __all__ = [
     "rank_raw",
@@ -72,6 +75,8 @@ def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
         return a[0][0] * bk.ONE  # a new object: entries are never shared with a result
     if n == 2:  # the formula: no evaluation (a 2×2 of degree 256 has 513 points)
         return a[0][0] * a[1][1] - a[0][1] * a[1][0]
+    if ff.prefer_fraction_free(a, n):
+        return ff.det_fraction_free(a, n)
     coeffs = ev.coefficient_mats(a, n, n)
     bound = ev.minor_degree_bound(a, n, n, n)
     xs = ev.first_points(bound + 1)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
+from uio_ring.ring._fraction_free import generic_factors_fraction_free, prefer_fraction_free
 from uio_ring.ring._generic import (
     GENERIC_MIN_SIZE,
     GENERIC_MIN_SIZE_FACTORS,
@@ -240,7 +241,14 @@ def smith_by_elimination(M: PolyMatrix) -> SmithResult:
 def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     """The invariant factors of M: monic, ``s_1 | s_2 | … | s_r``, r = rank M.
 
-    Computed without transforms.  Square matrices of size ≥ ``GENERIC_MIN_SIZE_FACTORS``
+    Computed without transforms.  First, for a matrix of rank n = min(m, n) that is small,
+    of high degree or with large coefficients
+    (:func:`~uio_ring.ring._fraction_free.prefer_fraction_free`), the determinantal
+    divisors over Z[δ]: two compressed (n−1)-minors with gcd 1 prove ``d_{n−1} = 1``,
+    and the gcd of the maximal minors (Bareiss, when there are at most
+    ``MAX_MINORS``) is ``d_n``: the factors are ``1, …, 1, d_n``
+    (:func:`~uio_ring.ring._fraction_free.generic_factors_fraction_free`).  Otherwise:
+    square matrices of size ≥ ``GENERIC_MIN_SIZE_FACTORS``
     first try the certified generic path (factors ``1, …, 1, det/lc`` proved by
     ``gcd(c_n, det) = 1``; from size ``GENERIC_MIN_SIZE`` also two non-trivial
     factors, from the interpolated adjugate; see :mod:`uio_ring.ring._generic`).
@@ -258,6 +266,11 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     m, n = M.shape
     if m < n:
         return invariant_factors(M.T)
+    if m >= n > 0 and prefer_fraction_free(M._r, n):
+        if m == n or rank_raw(M._r, m, n) == n:
+            facs = generic_factors_fraction_free(M._r, m, n)
+            if facs is not None:
+                return tuple(Poly._wrap(f, M.var) for f in facs)
     if m > n > 0:
         r = rank_raw(M._r, m, n)
         if r == n and coprime_maximal_minors(M._r, m, n):

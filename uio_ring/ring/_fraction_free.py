@@ -1,0 +1,171 @@
+"""Fraction-free determinants over Z[δ] and the determinantal divisors they give.
+
+A row of a matrix over Q[δ] times the common denominator of its coefficients is a
+row over Z[δ] that spans the same module (the factor is a unit of Q[δ]), so
+determinants, minors and their gcds can be computed over Z[δ], where flint's
+polynomial products (Kronecker substitution / Schönhage–Strassen, in C) are fast
+at high degree and large coefficients.
+
+Determinant
+    Bareiss' fraction-free elimination (Bareiss 1968; the one-step form of
+    Geddes, Czapor & Labahn, *Algorithms for Computer Algebra*, §9.3): after step
+    k every entry is a (k+1)×(k+1) minor of the input, so each division by the
+    previous pivot is exact (Sylvester's identity) and the entries never exceed
+    the size of the determinant.  O(n³) products in Z[δ] of degree ≤ n·d.  A
+    zero pivot is replaced by a row below with a nonzero entry (a row swap
+    changes only the sign).  Measured on the 4×4 of degree 222 with 1549-bit
+    coefficients that ``uio-ring check`` meets (benchmarks/random_spec.py,
+    n = 4, degree 16): 0.03 s, against 5 s by evaluation and interpolation at
+    889 points.
+Determinantal divisors
+    ``d_k`` = the gcd of the k×k minors.  ``det(Q·M·P)`` for integer Q (k×m) and
+    P (n×k) is a Z-linear combination of the k×k minors (Cauchy–Binet), hence a
+    multiple of ``d_k``: two such combinations with gcd 1 prove ``d_k = 1``.  The
+    gcd of *all* maximal minors (when there are few) is ``d_n`` itself.  Then
+    (Smith) ``s_1 = … = s_{n−1} = 1`` and ``s_n = d_n`` when ``d_{n−1} = 1``.
+
+>>> from uio_ring.ring import _backend as bk
+>>> a = [[bk.from_coeffs([0, 1]), bk.const(1)], [bk.const(-1), bk.from_coeffs([0, 1])]]
+>>> det_fraction_free(a, 2)
+x^2 + 1
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import random
+
+import flint
+
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
+
+__all__ = [
+    "integer_rows",
+    "det_integer",
+    "det_fraction_free",
+    "compressed_minor",
+    "maximal_minors_gcd",
+    "generic_factors_fraction_free",
+    "MAX_MINORS",
+    "prefer_fraction_free",
+]
+
+IntRows = list[list[flint.fmpz_poly]]
+
+#: The gcd of all maximal minors is formed when there are at most this many.
+MAX_MINORS = 64
+
+
+def prefer_fraction_free(a: dn.Rows, n: int) -> bool:
+    """True when Bareiss over Z[δ] is expected to beat evaluation for an n-column matrix:
+    n ≤ 8, or entries of degree ≥ n/2, or coefficients above 64 bits.
+
+    Measured (one core, random integer entries in [−3, 3]; seconds Bareiss / evaluation):
+    degree 2 — n = 8: 0.0003 / 0.0005, n = 16: 0.0036 / 0.0020, n = 32: 0.12 / 0.018;
+    degree 16 — n = 4: 0.0002 / 0.0019, n = 16: 0.047 / 0.14; degree 64, n = 4: 0.0005 / 0.062.
+    With large coefficients evaluation loses at every size (the points multiply them)."""
+    if n <= 8:
+        return True
+    deg = dn.mat_degree(a)
+    if 2 * deg >= n:
+        return True
+    return any(bk.bits(p) > 64 for r in a for p in r if not p.is_zero())
+
+
+def integer_rows(a: dn.Rows) -> tuple[IntRows, flint.fmpz]:
+    """``(Z, c)``: every row scaled to Z[δ] (see :func:`~uio_ring.ring._backend.integer_row`)
+    and the product c of the scales, so ``det Z = c·det a`` for a square a."""
+    out = []
+    scale = flint.fmpz(1)
+    for row in a:
+        z, c = bk.integer_row(row)
+        out.append(z)
+        scale *= c
+    return out, scale
+
+
+def det_integer(z: IntRows, n: int) -> flint.fmpz_poly:
+    """det of the n×n matrix z over Z[δ] by Bareiss' elimination (see the module docstring).
+    Precondition: z is n×n (not checked; it is not modified)."""
+    if n == 0:
+        return bk.IntPoly([1])
+    a = [list(r) for r in z]
+    sign = 1
+    prev = bk.IntPoly([1])
+    # Invariant after step k: a[i][j] (i, j > k) is the minor on rows 0…k, i and columns 0…k, j
+    # of the row-permuted input, up to the sign of the permutation.
+    for k in range(n - 1):
+        if a[k][k].is_zero():
+            piv = next((i for i in range(k + 1, n) if not a[i][k].is_zero()), None)
+            if piv is None:
+                return bk.IntPoly()
+            a[k], a[piv] = a[piv], a[k]
+            sign = -sign
+        akk = a[k][k]
+        for i in range(k + 1, n):
+            aik = a[i][k]
+            row_i, row_k = a[i], a[k]
+            for j in range(k + 1, n):
+                row_i[j] = (row_i[j] * akk - aik * row_k[j]) // prev  # exact (Sylvester)
+        prev = akk
+    return a[n - 1][n - 1] if sign > 0 else -a[n - 1][n - 1]
+
+
+def det_fraction_free(a: dn.Rows, n: int) -> flint.fmpq_poly:
+    """det of the n×n rows a over Q[δ], via Z[δ] (Bareiss).
+    Precondition: a is n×n (not checked)."""
+    z, scale = integer_rows(a)
+    return bk.from_integer(det_integer(z, n)) / scale
+
+
+def compressed_minor(z: IntRows, m: int, n: int, k: int, seed: int) -> flint.fmpq_poly:
+    """``det(Q·Z·P)`` for pseudo-random integer Q (k×m) and P (n×k) fixed by ``seed``:
+    a Z-linear combination of the k×k minors of Z (Cauchy–Binet).  P is the identity
+    when k = n, Q when k = m.  Precondition: 0 < k ≤ min(m, n) (not checked)."""
+    rng = random.Random(seed)  # fixed: the answer depends only on Z and seed
+    zero = bk.IntPoly()
+    if k < n:
+        p = [[rng.randint(-9, 9) for _ in range(k)] for _ in range(n)]
+        z = [[sum((row[l] * p[l][j] for l in range(n) if p[l][j]), zero) for j in range(k)] for row in z]
+    if k < m:
+        q = [[rng.randint(-9, 9) for _ in range(m)] for _ in range(k)]
+        z = [[sum((z[l][j] * q[i][l] for l in range(m) if q[i][l]), zero) for j in range(k)] for i in range(k)]
+    return bk.from_integer(det_integer(z, k))
+
+
+def maximal_minors_gcd(z: IntRows, m: int, n: int) -> flint.fmpq_poly | None:
+    """The monic gcd of all n×n minors of the m×n matrix z (m ≥ n), or None when there
+    are more than :data:`MAX_MINORS` of them.  Precondition: m ≥ n ≥ 1 (not checked)."""
+    if math.comb(m, n) > MAX_MINORS:
+        return None
+    g = bk.ZERO
+    for rows in itertools.combinations(range(m), n):
+        g = bk.gcd(g, bk.from_integer(det_integer([z[i] for i in rows], n)))
+        if g.is_one():
+            break
+    return g
+
+
+def generic_factors_fraction_free(a: dn.Rows, m: int, n: int) -> list[flint.fmpq_poly] | None:
+    """The invariant factors ``(1, …, 1, d_n)`` of an m×n matrix of rank n (m ≥ n ≥ 1), when
+    two compressed (n−1)-minors prove ``d_{n−1} = 1`` and ``d_n`` (the gcd of the maximal
+    minors) can be formed; otherwise None (then the caller eliminates).  A zero ``d_n``
+    (rank < n) also gives None.
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d = bk.from_coeffs([0, 1])
+    >>> generic_factors_fraction_free([[d, bk.ZERO], [bk.ZERO, d], [bk.ONE, bk.ONE]], 3, 2)
+    [1, x]
+    """
+    z, _ = integer_rows(a)
+    if n > 1:
+        g1 = compressed_minor(z, m, n, n - 1, seed=1)
+        g2 = compressed_minor(z, m, n, n - 1, seed=2)
+        if not bk.gcd(g1, g2).is_one():
+            return None
+    dn_ = maximal_minors_gcd(z, m, n)
+    if dn_ is None or dn_.is_zero():
+        return None
+    return [bk.ONE] * (n - 1) + [dn_]
