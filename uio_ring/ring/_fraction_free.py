@@ -126,13 +126,14 @@ def _size(p: flint.fmpz_poly) -> int:
 
 
 def smallest_first(z: IntRows, n: int) -> IntRows:
-    """The columns of z sorted by increasing size (degree × bits).  Bareiss' step k works
-    with minors of the first k+1 columns, so small columns first keep the early steps
-    cheap (the rows of ``N_k`` in the analysis differ by thousands of bits).  Minors
-    change only in sign.  Precondition: every row has n entries (not checked)."""
+    """The rows and the columns of z sorted by increasing size (degree × bits).  Bareiss'
+    step k works with minors of the first k+1 rows and columns, so small ones first keep
+    the early steps cheap (the rows of ``N_k`` in the analysis differ by thousands of
+    bits).  Minors change only in sign.  Precondition: every row has n entries (not checked)."""
     sizes = [max((_size(r[j]) for r in z), default=0) for j in range(n)]
     order = sorted(range(n), key=sizes.__getitem__)
-    return [[r[j] for j in order] for r in z]
+    rows = sorted(z, key=lambda r: max((_size(p) for p in r), default=0))
+    return [[r[j] for j in order] for r in rows]
 
 
 def compressed_minor(z: IntRows, m: int, n: int, skip: int | None, seed: int) -> flint.fmpq_poly:
@@ -171,8 +172,9 @@ def generic_factors_fraction_free(a: dn.Rows, m: int, n: int) -> list[flint.fmpq
     ``(1, …, 1, d_n)``, certified; otherwise None (then the caller eliminates).
 
     1. Two compressions of the maximal minors with gcd 1 prove ``d_n = 1``: all ones.
-    2. Two compressions of the (n−1)-minors (the matrix without its largest column,
-       then without the next one) with gcd 1 prove ``d_{n−1} = 1``, and the gcd of
+    2. Two combinations of (n−1)-minors with gcd 1 prove ``d_{n−1} = 1`` (square: the
+       minors without the largest row and the largest or the next column; tall:
+       compressions of the matrix without those columns), and the gcd of
        all maximal minors (at most :data:`MAX_MINORS` of them) is ``d_n``.
     A zero ``d_n`` (rank < n) gives None.
 
@@ -191,8 +193,12 @@ def generic_factors_fraction_free(a: dn.Rows, m: int, n: int) -> list[flint.fmpq
         if bk.gcd(g1, compressed_minor(z, m, n, None, seed=2)).is_one():
             return [one] * n
     if n > 1:
-        g1 = compressed_minor(z, m, n, n - 1, seed=3)
-        g2 = compressed_minor(z, m, n, n - 2, seed=4)
+        if m == n:  # two true minors without the largest row: no mixing, so no size blow-up
+            g1 = bk.from_integer(det_integer([r[: n - 1] for r in z[: n - 1]], n - 1))
+            g2 = bk.from_integer(det_integer([r[: n - 2] + r[n - 1 :] for r in z[: n - 1]], n - 1))
+        else:
+            g1 = compressed_minor(z, m, n, n - 1, seed=3)
+            g2 = compressed_minor(z, m, n, n - 2, seed=4)
         if not bk.gcd(g1, g2).is_one():
             return None
     dn_ = maximal_minors_gcd(z, m, n)

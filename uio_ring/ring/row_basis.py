@@ -22,7 +22,7 @@ the Hermite transforms at every step.
 >>> from uio_ring.ring.matrix import PolyMatrix
 >>> ext = extend_row_basis(PolyMatrix("[[1, d]]"), PolyMatrix("[[d, d**2 + 1], [2, 2*d]]"))
 >>> ext.rows, ext.basis
-(PolyMatrix([[0, 1]]), PolyMatrix([[1, d], [0, 1]]))
+    (PolyMatrix([[0, 1]]), PolyMatrix([[1, 0], [0, 1]]))
 """
 
 from __future__ import annotations
