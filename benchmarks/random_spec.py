@@ -11,14 +11,23 @@ Usage::
 
     python benchmarks/random_spec.py --n 4 --degree 16 --seed 1 > spec.yaml
     PYTHONPATH=. python -m uio_ring.cli check spec.yaml
+    PYTHONPATH=. python benchmarks/random_spec.py --time 4 8 16 --degree 16 --budget 600
 
-:func:`random_spec_text` is reused by ``bench_ring.py --families check``.
+``--time`` runs ``uio-ring check`` on each size in its own process (a case over the
+budget is reported as a timeout) and prints the CPU time of that process (user +
+system, so other jobs on the machine do not inflate it) and the verdict line.
+Timings are never asserted.
 """
 
 from __future__ import annotations
 
 import argparse
 import random
+import resource
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
 
 def _poly(rng: random.Random, degree: int) -> str:
@@ -62,8 +71,28 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--p", type=int, default=None, help="outputs (default m + 1)")
     ap.add_argument("--degree", type=int, default=16, help="δ-degree of every entry (default 16)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--time", type=int, nargs="*", metavar="N", help="time `uio-ring check` on these sizes")
+    ap.add_argument("--budget", type=float, default=600.0, help="seconds per case with --time")
     args = ap.parse_args(argv)
-    print(random_spec_text(args.n, args.degree, args.seed, m=args.m, p=args.p), end="")
+    if args.time is None:
+        print(random_spec_text(args.n, args.degree, args.seed, m=args.m, p=args.p), end="")
+        return 0
+    print(f"uio-ring check on random specs (δ-degree {args.degree}, seed {args.seed}, m = max(1, n/4), p = m + 1)")
+    for n in args.time:
+        with tempfile.TemporaryDirectory() as tmp:
+            spec = Path(tmp) / "spec.yaml"
+            spec.write_text(random_spec_text(n, args.degree, args.seed, m=args.m, p=args.p), encoding="utf-8")
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            try:
+                proc = subprocess.run([sys.executable, "-m", "uio_ring.cli", "check", str(spec)],
+                                      capture_output=True, text=True, timeout=args.budget)
+            except subprocess.TimeoutExpired:
+                print(f"  n = {n:>2}: timeout (> {args.budget:g} s wall)")
+                continue
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+            verdict = next((ln.strip()[:60] for ln in proc.stdout.splitlines() if "==" in ln), "")
+            print(f"  n = {n:>2}: {cpu:8.2f} s CPU, exit {proc.returncode}  {verdict}")
     return 0
 
 

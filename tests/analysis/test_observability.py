@@ -109,3 +109,53 @@ def test_rank_of_M_k_star_matches_generic_V_star(sys):
     # dim V* at a point is at least the generic one; three points give the generic value
     dims = [weakly_unobservable_dim(*system_at(sys, v)) for v in (sympy.Rational(7, 3), sympy.Rational(-11, 5), 13)]
     assert rep.rank == sys.n_x - min(dims)
+
+
+# -- the reduction of Δ_k modulo N_k changes no module: against the raw algorithm -------------
+def _raw_algorithm(sys):
+    """Algorithm (4)–(5) exactly as printed (no reduction of Δ_k), invariant factors by
+    elimination: the independent path."""
+    from uio_ring.ring.hermite import hermite_by_elimination
+    from uio_ring.ring.smith import invariant_factors_by_elimination
+
+    n = sys.n_x
+    Delta, F, G = PolyMatrix.zeros(0, n), sys.D, sys.C
+    N = Delta
+    facs = [()]
+    for k in range(40):
+        S = PolyMatrix.vstack(Delta @ sys.B, F)
+        h = hermite_by_elimination(S)
+        PR = h.U @ PolyMatrix.vstack(Delta @ sys.A, G)
+        F, G, Delta = h.H[0 : h.rank, 0 : S.cols], PR[0 : h.rank, 0:n], PR[h.rank : PR.rows, 0:n]
+        N = PolyMatrix.vstack(N, Delta)
+        facs.append(tuple(invariant_factors_by_elimination(N)))
+        if facs[-1] == facs[-2]:
+            return k, facs
+    raise AssertionError("no stabilisation")  # pragma: no cover
+
+
+@given(delay_systems())
+def test_reduced_delta_gives_the_raw_algorithms_k_star_and_factors(sys):
+    rep = unknown_input_observability(sys)
+    k_star, facs = _raw_algorithm(sys)
+    assert rep.k_star == k_star
+    assert [tuple(f) for f in rep.invariant_factors] == facs
+
+
+def test_reduction_keeps_degrees_low_on_a_random_degree_4_system():
+    import random as _random
+
+    rng = _random.Random(3)
+
+    def poly():
+        return " + ".join(f"{rng.randint(-3, 3)}*d**{e}" for e in range(5))
+
+    def mat(r, c):
+        return [[poly() for _ in range(c)] for _ in range(r)]
+
+    sys = DelaySystem(mat(4, 4), mat(4, 1), mat(2, 4), None)
+    rep = unknown_input_observability(sys)
+    k_star, facs = _raw_algorithm(sys)
+    assert (rep.k_star, [tuple(f) for f in rep.invariant_factors]) == (k_star, facs)
+    # every Δ_k row lies in the row module of N_k and has degree at most that of the raw rows
+    assert max(D.degree() for D in rep.Delta) <= 4 * (rep.k_star + 2)

@@ -1,0 +1,119 @@
+"""Fraction-free determinants and determinantal-divisor invariant factors (ring._fraction_free),
+and the row-basis extension (ring.row_basis), against the independent paths."""
+
+from __future__ import annotations
+
+import flint
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _evaluation as ev
+from uio_ring.ring import _fraction_free as ff
+from uio_ring.ring.hermite import hermite
+from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.row_basis import extend_row_basis, is_weak_popov
+from uio_ring.ring.smith import invariant_factors, invariant_factors_by_elimination
+
+from .strategies import dense_matrices, matrices, square_matrices, unimodular_matrices
+
+
+def _det_by_evaluation(M: PolyMatrix):
+    """det M(x) at deg-bound + 1 points, then interpolation: the independent path."""
+    n = M.rows
+    coeffs = ev.coefficient_mats(M._r, n, n)
+    xs = ev.first_points(ev.minor_degree_bound(M._r, n, n, n) + 1)
+    return ev.interpolate(xs, [ev.evaluate(coeffs, x).det() for x in xs])
+
+
+@given(square_matrices(min_n=1, max_n=5))
+def test_bareiss_equals_evaluation(M):
+    assert ff.det_fraction_free(M._r, M.rows) == _det_by_evaluation(M)
+
+
+def test_bareiss_needs_a_row_swap_and_a_sign():
+    M = PolyMatrix("[[0, 1, d], [1, 0, 2], [d, 3, 0]]")
+    assert ff.det_fraction_free(M._r, 3) == _det_by_evaluation(M)
+    assert ff.det_fraction_free(PolyMatrix("[[0, 0], [0, d]]")._r, 2).is_zero()
+
+
+@given(matrices(min_rows=1, max_rows=5, min_cols=1, max_cols=4))
+def test_generic_factors_equal_elimination_or_give_up(M):
+    A = M if M.rows >= M.cols else M.T
+    got = ff.generic_factors_fraction_free(A._r, A.rows, A.cols)
+    ref = invariant_factors_by_elimination(A)
+    if got is not None:
+        assert tuple(got) == tuple(p._p for p in ref)
+    assert invariant_factors(M) == ref
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(2, 4), st.data())
+def test_fallback_when_two_factors_are_nontrivial(n, data):
+    # P·diag(1, …, δ+1, (δ+1)(δ−2))·Q: d_{n−1} = δ + 1 ≠ 1, so the fast path must refuse
+    P = data.draw(unimodular_matrices(n))
+    Q = data.draw(unimodular_matrices(n))
+    M = P @ PolyMatrix.diag(*(["1"] * (n - 2) + ["d + 1", "(d + 1)*(d - 2)"])) @ Q
+    assert ff.generic_factors_fraction_free(M._r, n, n) is None
+    tall = PolyMatrix.vstack(M, PolyMatrix("[[" + ", ".join(["0"] * n) + "]]"))
+    assert ff.generic_factors_fraction_free(tall._r, n + 1, n) is None
+    assert invariant_factors(tall) == invariant_factors_by_elimination(tall)
+    assert [str(f) for f in invariant_factors(M)] == ["1"] * (n - 2) + ["d + 1", "d**2 - d - 2"]
+
+
+def test_high_degree_tall_matrix_agrees_with_elimination():
+    # k = 24: the 2×2 high-degree family with a third row; d_2 = 1 or not, both paths agree
+    k = 24
+    M = PolyMatrix(f"[[(1 + d)**{k}, d**{k - 1} + 1], [d**{k} - 1, (d - 1)**{k}], [d**3, 1 - d]]")
+    assert ff.prefer_fraction_free(M._r, 2)
+    assert invariant_factors(M) == invariant_factors_by_elimination(M)
+    S = PolyMatrix(f"[[(1 + d)**{k}, 0], [0, (1 + d)**{k}], [(1 + d)**{k - 1}, d*(1 + d)**{k - 1}]]")
+    assert [f.degree() for f in invariant_factors(S)] == [k - 1, k]  # d_2 = (1 + δ)^(2k−1)
+    assert invariant_factors(S) == invariant_factors_by_elimination(S)
+
+
+def test_maximal_minors_gcd_gives_up_beyond_the_limit():
+    z = [[bk.IntPoly([1 + i + j]) for j in range(2)] for i in range(13)]
+    assert ff.maximal_minors_gcd(z, 13, 2) is None  # 78 > MAX_MINORS minors
+    assert ff.maximal_minors_gcd(z[:3], 3, 2) == bk.ONE  # the minors are all −1
+
+
+def test_integer_rows_scale_by_units():
+    a = PolyMatrix("[[1/2, d/3], [2*d/5, 7]]")._r
+    z, scale = ff.integer_rows(a)
+    assert all(isinstance(p, flint.fmpz_poly) for r in z for p in r)
+    assert bk.from_integer(ff.det_integer(z, 2)) == scale * ff.det_fraction_free(a, 2)
+
+
+# -- extend_row_basis -------------------------------------------------------------------------
+def _module(M: PolyMatrix) -> PolyMatrix:
+    """The row module of M, canonically: the nonzero rows of its Hermite form."""
+    h = hermite(M)
+    return h.H[0 : h.rank, 0 : M.cols]
+
+
+@given(dense_matrices(min_rows=0, max_rows=3, cols=3), dense_matrices(min_rows=1, max_rows=3, cols=3))
+def test_extend_row_basis_keeps_the_module(B0, X):
+    from uio_ring.ring import _dense as dn
+
+    rows = dn.copy(B0._r)
+    dn.weak_popov(rows)
+    rows = [r for r in rows if any(not p.is_zero() for p in r)]
+    B = PolyMatrix._new(rows, len(rows), 3, "d")
+    ext = extend_row_basis(B, X)
+    target = _module(PolyMatrix.vstack(B, X))
+    assert _module(PolyMatrix.vstack(B, ext.rows)) == target
+    assert ext.basis.rows == 0 or is_weak_popov(ext.basis)
+    assert _module(ext.basis) == target if ext.basis.rows else target.rows == 0
+    assert ext.rows.rows <= X.rows
+    assert all(ext.rows[i, :].degree() <= X.degree() for i in range(ext.rows.rows))
+
+
+def test_extend_row_basis_refuses_bad_input():
+    from uio_ring.ring.errors import DimensionError
+
+    with pytest.raises(DimensionError, match="weak Popov"):
+        extend_row_basis(PolyMatrix("[[1, d], [0, d]]"), PolyMatrix("[[1, 1]]"))
+    with pytest.raises(DimensionError, match="columns"):
+        extend_row_basis(PolyMatrix("[[1, d]]"), PolyMatrix("[[1, 1, 1]]"))
