@@ -152,12 +152,22 @@ def test_check_previews_the_design_and_names_other_methods(tmp_path, capsys):
 
 def test_long_checks_say_what_is_taking_long(tmp_path, capsys, monkeypatch):
     """Exact algebra on large, high-degree systems can take minutes: a line on stderr every
-    HEARTBEAT_SECONDS says what runs (here shortened to make a 4×4, δ-degree-4 check long)."""
+    HEARTBEAT_SECONDS says what runs (here shortened, and the check slowed down: a 4×4,
+    δ-degree-4 check now takes well under a second)."""
     import random
+    import time
 
     import uio_ring.cli.spec_commands as sc
+    from uio_ring.design.methods import DesignMethod
 
     monkeypatch.setattr(sc, "HEARTBEAT_SECONDS", 0.05)
+    applies = DesignMethod.applies
+
+    def slow_applies(self, sys):
+        time.sleep(0.3)
+        return applies(self, sys)
+
+    monkeypatch.setattr(DesignMethod, "applies", slow_applies)
     rng = random.Random(1)
 
     def mat(r, c):
