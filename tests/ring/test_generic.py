@@ -48,14 +48,15 @@ def random_unimodular(rng: random.Random, n: int, steps: int = 6) -> PolyMatrix:
 
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 10**6), n=st.integers(1, 9), deg=st.integers(0, 2))
+@example(seed=43, n=3, deg=1)  # the shape holds, but c_n = (adj M·r)_n shares a root with det M
 def test_generic_hermite_agrees_with_elimination(seed, n, deg):
     M = random_matrix(random.Random(seed), n, deg)
     got = generic_hermite(M._r, n)
     ref = hermite_by_elimination(M)
     if got is None:
-        # refused: then the Hermite form really is not of the shape [[I, h], [0, det]]
-        diag = [ref.H[i, i] for i in range(min(ref.rank, n))]
-        assert ref.rank < n or any(p != 1 for p in diag[:-1])
+        # refused: the certificate gcd(c_n, det) = 1 is sufficient, not necessary (a fixed r
+        # can be unlucky), so only the fallback is checked
+        assert hermite(M).H == ref.H
         return
     H, U, _ = got
     Hm, Um = PolyMatrix._new(H, n, n, "d"), PolyMatrix._new(U, n, n, "d")
