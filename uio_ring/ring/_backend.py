@@ -236,8 +236,9 @@ def integer_row(row: Sequence[flint.fmpq_poly]) -> tuple[list[flint.fmpz_poly], 
     """``(c·row, c)`` with c > 0 the least common denominator of the row's coefficients:
     an integer row that spans the same Q[δ]-module (c is a unit of Q[δ]).
 
-    >>> integer_row([from_coeffs([Fraction(1, 2)]), from_coeffs([0, Fraction(1, 3)])])
-    ([fmpz_poly([3]), fmpz_poly([0, 2])], 6)
+    >>> z, c = integer_row([from_coeffs([Fraction(1, 2)]), from_coeffs([0, Fraction(1, 3)])])
+    >>> [p.coeffs() for p in z], int(c)
+    ([[3], [0, 2]], 6)
     """
     den = flint.fmpz(1)
     for p in row:
