@@ -117,3 +117,26 @@ def test_extend_row_basis_refuses_bad_input():
         extend_row_basis(PolyMatrix("[[1, d], [0, d]]"), PolyMatrix("[[1, 1]]"))
     with pytest.raises(DimensionError, match="columns"):
         extend_row_basis(PolyMatrix("[[1, d]]"), PolyMatrix("[[1, 1, 1]]"))
+
+
+# -- coprimality proved modulo one prime (ring._modular) ---------------------------------------
+@given(square_matrices(min_n=1, max_n=4), square_matrices(min_n=1, max_n=4))
+def test_modular_coprimality_is_sound(A, B):
+    from uio_ring.ring._modular import coprime_dets_mod_p, det_mod_p
+
+    if coprime_dets_mod_p(A._r, B._r, A.rows, k2=B.rows):
+        assert bk.gcd(_det_by_evaluation(A), _det_by_evaluation(B)).is_one()
+    f, bound = det_mod_p(A._r, A.rows)
+    assert bound >= _det_by_evaluation(A).degree() >= f.degree()
+
+
+def test_modular_coprimality_refuses_an_unattained_bound_and_a_common_factor():
+    from uio_ring.ring._modular import PRIME, coprime_dets_mod_p
+
+    # det = p·δ + 1 is ≡ 1 mod p: coprime modulo p to anything, but the degree bound 1 is
+    # not attained, so nothing is claimed (here gcd(pδ + 1, pδ + 1) is not 1 over Q)
+    A = PolyMatrix(f"[[{PRIME}*d + 1]]")
+    assert not coprime_dets_mod_p(A._r, A._r, 1)
+    B = PolyMatrix("[[d + 1, 0], [0, d - 1]]")
+    assert not coprime_dets_mod_p(B._r, PolyMatrix("[[d**2 - 1]]")._r, 2, k2=1)
+    assert coprime_dets_mod_p(B._r, PolyMatrix("[[d**2 + 1]]")._r, 2, k2=1)

@@ -32,6 +32,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring import _fraction_free as ff
+from uio_ring.ring._modular import coprime_dets_mod_p
 
 __all__ = [
     "rank_raw",
@@ -131,14 +132,22 @@ def is_smith_raw(a: dn.Rows, m: int, n: int) -> bool:
     return all((diag[i + 1] % diag[i]).is_zero() for i in range(r - 1))
 
 
-def coprime_maximal_minors(a: dn.Rows, m: int, n: int) -> bool:
+def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True) -> bool:
     """True when two compressed maximal minors ``det(Q_i·M)`` (fixed pseudo-random
     integer Q_i, n×m) are coprime: each is a Q-linear combination of the n×n minors
     (Cauchy–Binet), so their gcd is a multiple of the gcd of all the minors, which
-    is then 1 — M is left unimodular.  False says nothing.  Precondition: m ≥ n ≥ 1."""
+    is then 1 — M is left unimodular.  Coprimality is first proved modulo one prime
+    (:mod:`uio_ring.ring._modular`: the first determinant reaches its degree bound mod
+    p and the gcd mod p is 1), else decided exactly — unless ``exact=False``, when only
+    the modular proof is tried.  False says nothing.  Precondition: m ≥ n ≥ 1."""
     rng = random.Random(15)  # fixed: the answer depends only on M
-    dets = []
+    qa = []
     for _ in range(2):
         q = [[bk.const(rng.randint(-9, 9)) for _ in range(m)] for _ in range(n)]
-        dets.append(det_raw(dn.matmul(q, a, n, m, n), n))
+        qa.append(dn.matmul(q, a, n, m, n))
+    if coprime_dets_mod_p(qa[0], qa[1], n):  # a proof modulo one prime (see _modular)
+        return True
+    if not exact:
+        return False
+    dets = [det_raw(b, n) for b in qa]
     return not dets[0].is_zero() and bk.gcd(dets[0], dets[1]).is_one()

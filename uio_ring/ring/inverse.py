@@ -66,8 +66,10 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     that basis divides the corresponding entry of X.  This keeps the δ-degree
     low (in an observer, degree is delay).  For square M it is the inverse.
 
-    Algorithm: a tall M whose maximal minors are certified coprime (two compressed
-    minors, :func:`~uio_ring.ring._predicates.coprime_maximal_minors`) gets X from
+    Algorithm: a tall M of full column rank whose maximal minors are proved coprime
+    modulo a prime (two compressed minors,
+    :func:`~uio_ring.ring._predicates.coprime_maximal_minors` with ``exact=False``), or
+    that is not refused by two degree bounds of the same solver, gets X from
     one square block-Toeplitz system (:func:`~uio_ring.ring._kernel_basis.solve_reduced`,
     checked exactly) and the Popov kernel from one Toeplitz nullspace; otherwise
     Euclidean elimination with a unimodular transform, then Popov division of its
@@ -85,9 +87,13 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     """
     M = require_matrix(M, "left_inverse")
     m, n = M.shape
-    if m > n > 0 and rank_raw(M._r, m, n) == n and coprime_maximal_minors(M._r, m, n):
-        K = popov_left_kernel(M._r, m, n)  # M is left unimodular: X·M = I, X reduced mod K
-        X = solve_reduced(M._r, m, n, K, dn.identity(n)) if K is not None else None
+    if m > n > 0 and rank_raw(M._r, m, n) == n:
+        # Either the minors are proved coprime, or one bounded attempt: a returned X is
+        # checked exactly (X·M = I), which itself proves that M is left unimodular.
+        proved = coprime_maximal_minors(M._r, m, n, exact=False)
+        K = popov_left_kernel(M._r, m, n)
+        X = (solve_reduced(M._r, m, n, K, dn.identity(n), tries=None if proved else 2)
+             if K is not None else None)
         if X is not None:
             return PolyMatrix._new(X, n, m, M.var)
     u = dn.identity(m)
