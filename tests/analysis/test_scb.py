@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from uio_ring import DelaySystem
 from uio_ring.analysis.infinite_structure import infinite_zero_structure
-from uio_ring.analysis.scb import NotLeftInvertibleError, scb_dimensions, special_coordinate_basis
+from uio_ring.analysis.observer_classes import observer_options
+from uio_ring.analysis.scb import scb_dimensions, special_coordinate_basis
 from uio_ring.analysis.scb_certificate import theorem1_violations
 from uio_ring.analysis.scb_steps import theorem1_transformation
 from uio_ring.analysis.strong_observability import (
@@ -95,13 +96,32 @@ def test_invariants_agree_with_the_independent_routes(seed):
     assert is_strong_star_detectable(sys).holds == (scb.n_c == 0 and hurwitz and all(k == 1 for k in scb.q))  # iii
 
 
-def test_not_left_invertible_gives_dimensions_and_refuses():
+def test_not_left_invertible_has_an_x_c_part():
     sys = DelaySystem("[[0, 1], [0, 0]]", "[[1, 0], [0, 1]]", "[[1, 0]]", None)
     dims = scb_dimensions(sys)
     assert dims.n_c == 1 and not dims.left_invertible
-    with pytest.raises(NotLeftInvertibleError, match="n_c = dim R\\* = 1"):
-        special_coordinate_basis(sys)
+    scb = special_coordinate_basis(sys)
+    assert (scb.n_a, scb.n_b, scb.n_c, scb.n_d, scb.m_c) == (0, 0, 1, 1, 1)
+    assert scb.verify().ok
     assert not is_strongly_detectable(sys).holds
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32))
+def test_planted_structure_with_an_x_c_part(seed):
+    """Not left invertible: planted (A_c, B_c) controllable, coupled as (17a) allows; the sizes, the
+    chains and the zeros come back and the certificate (incl. (p.5)–(p.7) with R* ≠ 0) holds."""
+    rng = random.Random(seed)
+    na, l, q, m0 = _random_params(rng)
+    nc = rng.randint(1, 3)
+    P = planted(na, l, q, m0, rng, n_c=nc, m_c=rng.randint(1, nc))
+    scb = special_coordinate_basis(P.system)
+    assert (scb.n_a, scb.n_c, scb.m_0) == (na, nc, m0)
+    assert scb.q == tuple(sorted(q, reverse=True)) and sorted(scb.l) == sorted(l)
+    assert scb.invariant_zero_polynomial == P.zero_polynomial
+    cert = scb.verify()
+    assert cert.ok, str(cert)
+    assert not observer_options(P.system).holds
 
 
 def test_refusals():

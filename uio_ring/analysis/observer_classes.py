@@ -162,7 +162,7 @@ def observer_options(sys: DelaySystem) -> ObserverOptions:
         return ObserverOptions(
             False, f"not strongly detectable: the system is not left invertible (n_c = {dims.n_c}): some state "
             "directions are masked by the unknown input for every s, so no observer of any kind exists",
-            dims, None, False, False, False, "none")
+            dims, special_coordinate_basis(sys), False, False, False, "none")
     scb = special_coordinate_basis(sys)
     zp = scb.invariant_zero_polynomial
     stable = is_hurwitz_polynomial(zp)

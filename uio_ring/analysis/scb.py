@@ -42,9 +42,13 @@ the geometric characterisation, every step a rational linear solve:
 ``Ts⁻¹`` is then these rows; every identity of (17a)–(23) and Lemma 3 is
 re-checked exactly by :meth:`SpecialCoordinateBasis.verify`.
 
-Systems that are not left invertible (``n_c > 0``) get their dimensions
-(:func:`scb_dimensions`) but no transformation: no unknown-input observer
-exists for them, and this package does not build the ``x_c`` blocks.
+6. *Not left invertible* (``n_c = dim R* > 0``, :func:`~uio_ring.analysis.scb_steps.controllable_part_scb`):
+   ``X_c = R*``, a controllability subspace in ``ker C``; with a friend ``K``
+   the quotient by ``R*``, driven by the inputs that do not point into ``R*``,
+   is left invertible and gets steps 2–5; its columns are lifted by ``R*``
+   components solving triangular recursions (and one Sylvester equation for
+   ``x_a``) so that ``x_c'`` sees the other parts only as (17a) allows.  No
+   unknown-input observer exists for such systems; the basis shows why.
 
 >>> from uio_ring import DelaySystem
 >>> scb = special_coordinate_basis(DelaySystem("[[0, 1, 0], [0, 0, 1], [-1, -2, -3]]",
@@ -65,18 +69,14 @@ from uio_ring.analysis.scb_steps import (
     NotLeftInvertibleError,
     SCBDimensions,
     chain_ends,
-    chain_rows,
     chain_starts,
-    hstack,
-    input_chains,
+    controllable_part_scb,
+    intersection,
+    left_invertible_scb,
     left_solve,
-    observable_chains,
     reduce_system,
     selector,
     shift_matrix,
-    theorem1_transformation,
-    vstack,
-    zero_dynamics_rows,
 )
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.charpoly import charpoly
@@ -99,8 +99,10 @@ Q = QMatrix
 class SpecialCoordinateBasis:
     """The special coordinate basis of a left-invertible delay-free system (exact).
 
-    Orderings: ``x̄ = [x_a; x_b; x_d]`` (``x_c`` is empty: ``n_c = 0``),
-    ``w̄ = [w_0; w_d]``, ``ȳ = [y_0; y_d; y_b]``; ``x = Ts x̄``, ``w = Ti w̄``, ``y = To ȳ``.
+    Orderings: ``x̄ = [x_a; x_b; x_c; x_d]``, ``w̄ = [w_0; w_d; w_c]``, ``ȳ = [y_0; y_d; y_b]``;
+    ``x = Ts x̄``, ``w = Ti w̄``, ``y = To ȳ``.  ``x_c`` (and ``w_c``) exist only when the system is
+    not left invertible (``n_c > 0``; then no unknown-input observer exists).  (17a) for ``x_c``:
+    ``x_c' = B_c F_ca x_a + H_cb y_b + A_c x_c + H_cd y_d + B_c w_c`` (+ ``B_0c y_0``).
 
     Attributes
     ----------
@@ -154,9 +156,14 @@ class SpecialCoordinateBasis:
         return SCBDimensions(self.n_a, self.n_b, self.n_c, self.n_d, self.m_0)
 
     def _idx(self, part: str) -> list[int]:
-        start = {"a": 0, "b": self.n_a, "d": self.n_a + self.n_b}[part]
-        size = {"a": self.n_a, "b": self.n_b, "d": self.n_d}[part]
+        start = {"a": 0, "b": self.n_a, "c": self.n_a + self.n_b, "d": self.n_a + self.n_b + self.n_c}[part]
+        size = {"a": self.n_a, "b": self.n_b, "c": self.n_c, "d": self.n_d}[part]
         return list(range(start, start + size))
+
+    @property
+    def m_c(self) -> int:
+        """Number of unknown inputs ``w_c`` (the part that makes the system not left invertible)."""
+        return self.system.n_w - self.m_0 - self.m_d
 
     def _q(self, M: PolyMatrix) -> QMatrix:
         return Q(M)
@@ -225,8 +232,9 @@ class SpecialCoordinateBasis:
 
     @property
     def H_dd(self) -> PolyMatrix:
+        d0 = self.n_a + self.n_b + self.n_c
         return (Q(self._block(self._idx("d"), self._starts("d"))) - shift_matrix(self.q).take_cols(
-            [s - self.n_a - self.n_b for s in self._starts("d")])).to_polymatrix()
+            [s - d0 for s in self._starts("d")])).to_polymatrix()
 
     @property
     def F_da(self) -> PolyMatrix:
@@ -240,7 +248,38 @@ class SpecialCoordinateBasis:
     def F_dd(self) -> PolyMatrix:
         """Rows of ``A_d − A_d* − H_dd C_d`` at the chain ends (zero in the chain-start columns)."""
         rest = Q(self.A_d) - shift_matrix(self.q) - Q(self.H_dd) @ selector(self.q, at_end=False)
-        return rest.take_rows([e - self.n_a - self.n_b for e in self._ends("d")]).to_polymatrix()
+        d0 = self.n_a + self.n_b + self.n_c
+        return rest.take_rows([e - d0 for e in self._ends("d")]).to_polymatrix()
+
+    @property
+    def A_c(self) -> PolyMatrix:
+        return self._block(self._idx("c"), self._idx("c"))
+
+    @property
+    def B_c(self) -> PolyMatrix:
+        """``B̄`` rows of ``x_c``, columns of ``w_c``."""
+        return Q(self.B_bar).take_rows(self._idx("c")).take_cols(
+            range(self.m_0 + self.m_d, self.m_0 + self.m_d + self.m_c)).to_polymatrix()
+
+    @property
+    def H_cb(self) -> PolyMatrix:
+        return self._block(self._idx("c"), self._starts("b"))
+
+    @property
+    def H_cd(self) -> PolyMatrix:
+        return self._block(self._idx("c"), self._starts("d"))
+
+    @property
+    def F_ca(self) -> PolyMatrix:
+        """``F_ca`` with ``B_c F_ca`` the ``x_a`` columns of the ``x_c`` rows."""
+        if not self.n_c or not self.n_a:
+            return PolyMatrix.zeros(self.m_c, self.n_a)
+        # B_c F_ca = Ā_s[c, a]: a right solve (B_c has full column rank); UioRingError if there is none
+        return left_solve(Q(self.B_c).T, Q(self._block(self._idx("c"), self._idx("a"))).T, "B_c F_ca").T.to_polymatrix()
+
+    @property
+    def F_dc(self) -> PolyMatrix:
+        return self._block(self._ends("d"), self._idx("c"))
 
     @property
     def invariant_zero_polynomial(self) -> Poly:
@@ -291,7 +330,7 @@ def scb_dimensions(sys: DelaySystem) -> SCBDimensions:
 
 
 def special_coordinate_basis(sys: DelaySystem) -> SpecialCoordinateBasis:
-    """The special coordinate basis of a delay-free, left-invertible system, exactly over Q.
+    """The special coordinate basis of a delay-free system, exactly over Q.
 
     Parameters
     ----------
@@ -307,8 +346,6 @@ def special_coordinate_basis(sys: DelaySystem) -> SpecialCoordinateBasis:
 
     Raises
     ------
-    NotLeftInvertibleError
-        ``n_c > 0`` (the message gives ``n_c``; :func:`scb_dimensions` gives all sizes).
     DomainError
         A matrix depends on δ.
     DimensionError
@@ -334,34 +371,16 @@ def special_coordinate_basis(sys: DelaySystem) -> SpecialCoordinateBasis:
     ((1, 0, 2), (2,), (), s + 2)
     """
     red = reduce_system(sys)
-    if red.dims.n_c:
-        raise NotLeftInvertibleError(
-            f"the system is not left invertible (n_c = dim R* = {red.dims.n_c} > 0): some state directions are "
-            "masked by the unknown input for every s, and no unknown-input observer exists; this package does not "
-            "build the SCB blocks of x_c (scb_dimensions gives the sizes)")
     ft = red.ft
     A, B1, C1 = ft.A_star, ft.B1, ft.C1
-    n = A.rows
-    chains = input_chains(A, B1, C1) if B1.cols else []
-    q = tuple(ch.closed_at for ch in chains)
-    T_d = hstack([c for ch in chains for c in reversed(ch.cols)], n) if chains else Q.zeros(n, 0)
-    Ti1 = hstack([ch.coef for ch in chains], B1.cols) if chains else Q.zeros(0, 0)
-    T_a = red.V
-    obs = observable_chains(A, C1, hstack([T_a, T_d], n))
-    d_starts = chain_starts(q)
-    Phi_d, kd = chain_rows(A, C1, T_d, q, d_starts)
-    na = T_a.cols
-    if na:
-        A_a = left_solve(hstack([T_a, B1], n).T, (A @ T_a).T, "A T_a = T_a A_a + B G").T.take_rows(range(na))
-        Phi_a = zero_dynamics_rows(A, C1, T_a, T_d, obs, A_a)
+    if red.dims.n_c:
+        core = controllable_part_scb(A, B1, C1, intersection(red.V, red.S))
     else:
-        Phi_a = Q.zeros(0, n)
-    Ts = vstack([Phi_a, obs.rows, Phi_d], n).inverse(name="Ts⁻¹")
-    Ts = Ts @ theorem1_transformation(Ts, A, q, na + obs.rows.rows)
+        core = left_invertible_scb(A, B1, C1, red.V)
+    Ts, Ti1, To1 = core.Ts, core.Ti, core.To
     m0 = ft.m0
     p, m = red.D.shape
     Ti = ft.Ti0 @ Q.block([[Q.identity(m0), Q.zeros(m0, m - m0)], [Q.zeros(m - m0, m0), Ti1]]) if m else Q.zeros(0, 0)
-    To1 = vstack([kd, obs.y_rows], p - m0).inverse(name="To⁻¹") if p - m0 else Q.zeros(0, 0)
     To = ft.To0 @ Q.block([[Q.identity(m0), Q.zeros(m0, p - m0)], [Q.zeros(p - m0, m0), To1]]) if p else Q.zeros(0, 0)
     Tsi = Ts.inverse(name="Ts")
     Toi = To.inverse(name="To") if p else To
@@ -372,5 +391,5 @@ def special_coordinate_basis(sys: DelaySystem) -> SpecialCoordinateBasis:
         B_bar=(Tsi @ red.B @ Ti).to_polymatrix(),
         C_bar=(Toi @ red.C @ Ts).to_polymatrix(),
         D_bar=(Toi @ red.D @ Ti).to_polymatrix(),
-        n_a=na, n_b=obs.rows.rows, n_d=T_d.cols, m_0=m0, q=q, l=tuple(obs.l),
+        n_a=core.n_a, n_b=core.n_b, n_d=core.n_d, m_0=m0, q=core.q, l=core.l, n_c=core.n_c,
     )

@@ -10,7 +10,14 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from uio_ring.analysis.scb_steps import chain_starts, hstack, reduce_system, shift_matrix, vstack
+from uio_ring.analysis.scb_steps import (
+    chain_starts,
+    hstack,
+    intersection,
+    reduce_system,
+    shift_matrix,
+    vstack,
+)
 from uio_ring.analysis.strong_observability import (
     constant_matrices,
     invariant_zeros,
@@ -18,6 +25,7 @@ from uio_ring.analysis.strong_observability import (
     weakly_unobservable_subspace,
 )
 from uio_ring.ring.certificate import Certificate, Check
+from uio_ring.ring.errors import UioRingError
 from uio_ring.ring.qmatrix import QMatrix
 from uio_ring.systems.delay_system import DelaySystem
 
@@ -36,15 +44,19 @@ def _check(name: str, lhs: QMatrix, rhs: QMatrix, statement: str = "") -> Check:
 
 
 def _assembled(scb: SpecialCoordinateBasis) -> QMatrix:
-    """``Ā_s`` rebuilt from the blocks of (17a) (``x_c`` empty)."""
-    na, nb, nd = scb.n_a, scb.n_b, scb.n_d
-    Cb, Cd, Bd = Q(scb.C_b), Q(scb.C_d), Q(scb.B_d)
+    """``Ā_s`` rebuilt from the blocks of (17a); ``UioRingError`` when the ``x_a`` columns of the
+    ``x_c`` rows are not of the form ``B_c F_ca``."""
+    na, nb, nc, nd = scb.n_a, scb.n_b, scb.n_c, scb.n_d
+    Cb, Cd, Bd, Bc = Q(scb.C_b), Q(scb.C_d), Q(scb.B_d), Q(scb.B_c)
     Z = Q.zeros
-    return Q.block([
-        [Q(scb.A_a), Q(scb.H_ab) @ Cb, Q(scb.H_ad) @ Cd],
-        [Z(nb, na), Q(scb.A_b), Q(scb.H_bd) @ Cd],
-        [Bd @ Q(scb.F_da), Bd @ Q(scb.F_db), Q(scb.A_d)],
-    ]) if na + nb + nd else Z(0, 0)
+    rows = [
+        [Q(scb.A_a), Q(scb.H_ab) @ Cb, Z(na, nc), Q(scb.H_ad) @ Cd],
+        [Z(nb, na), Q(scb.A_b), Z(nb, nc), Q(scb.H_bd) @ Cd],
+        [Bc @ Q(scb.F_ca), Q(scb.H_cb) @ Cb, Q(scb.A_c), Q(scb.H_cd) @ Cd],
+        [Bd @ Q(scb.F_da), Bd @ Q(scb.F_db), Bd @ Q(scb.F_dc), Q(scb.A_d)],
+    ]
+    n = na + nb + nc + nd
+    return vstack([hstack(r, size) for r, size in zip(rows, (na, nb, nc, nd), strict=True)], n) if n else Z(0, 0)
 
 
 def theorem1_violations(scb: SpecialCoordinateBasis) -> list[tuple[int, int]]:
@@ -68,7 +80,7 @@ def scb_certificate(scb: SpecialCoordinateBasis) -> Certificate:
     (p.1) normrank G = m_0 + m_d, (p.2) ``det(sI − A_a)`` is the invariant-zero
     polynomial of ``P(s)`` (Smith form), (p.3) (A_b, C_b) observable, (p.4)
     (A_d, B_d, C_d) strongly observable, (p.5) left invertible ⇔ n_c = 0, (p.6) the
-    ``x_a`` columns of ``Ts`` span ``V*``, (p.7) ``R* = {0}`` (no ``x_c``).  The zeros are computed on
+    ``x_a`` and ``x_c`` columns of ``Ts`` span ``V*``, (p.7) the ``x_c`` columns span ``R*``.  The zeros are computed on
     the transformed system: its Rosenbrock matrix is ``diag(Ts⁻¹, To⁻¹) P(s) diag(Ts, Ti)`` (a constant
     unimodular equivalence once ``Ā = Ts⁻¹ A Ts`` etc. hold), so its invariant factors are those of ``P(s)``.
     """
@@ -90,20 +102,32 @@ def scb_certificate(scb: SpecialCoordinateBasis) -> Certificate:
         _check("C̄ = To⁻¹ C Ts", Q(scb.C_bar), Toi @ C @ Ts),
         _check("D̄ = To⁻¹ D Ti", Q(scb.D_bar), Toi @ D @ Ti),
     ]
-    na, nb, nd, m0, md, pb = scb.n_a, scb.n_b, scb.n_d, scb.m_0, scb.m_d, scb.p_b
-    sizes = (na + nb + nd == n and sum(scb.q) == nd and sum(scb.l) == nb and m0 + md == m and m0 + md + pb == p
-             and list(scb.q) == sorted(scb.q, reverse=True) and all(k >= 1 for k in scb.q + scb.l))
-    checks.append(Check("sizes: n = n_a + n_b + n_d, Σq = n_d, Σl = n_b, m = m_0 + m_d, p = m_0 + m_d + p_b, "
-                        "q non-increasing", sizes, None if sizes else (na, nb, nd, m0, md, pb, scb.q, scb.l)))
+    na, nb, nc, nd, m0, md, pb = scb.n_a, scb.n_b, scb.n_c, scb.n_d, scb.m_0, scb.m_d, scb.p_b
+    mc = scb.m_c
+    sizes = (na + nb + nc + nd == n and sum(scb.q) == nd and sum(scb.l) == nb and m0 + md + mc == m
+             and m0 + md + pb == p and list(scb.q) == sorted(scb.q, reverse=True)
+             and all(k >= 1 for k in scb.q + scb.l) and (mc > 0) == (nc > 0))
+    checks.append(Check("sizes: n = n_a + n_b + n_c + n_d, Σq = n_d, Σl = n_b, m = m_0 + m_d + m_c, "
+                        "p = m_0 + m_d + p_b, q non-increasing", sizes,
+                        None if sizes else (na, nb, nc, nd, m0, md, mc, pb, scb.q, scb.l)))
     if not sizes:
         return Certificate("special coordinate basis", checks)
-    checks.append(_check("(17a) Ā − B̄_0 C̄_0 has the SCB block pattern", Q(scb.A_s), _assembled(scb)))
-    Bd_full = vstack([Q.zeros(na + nb, md), Q(scb.B_d)], md) if md else Q.zeros(n, 0)
-    checks.append(_check("(17a) B̄ = [B̄_0, [0; 0; B_d]]", Q(scb.B_bar), hstack([Q(scb.B_0), Bd_full], n)))
+    try:
+        assembled: QMatrix | str = _assembled(scb)
+    except UioRingError as exc:
+        assembled = str(exc)
+    if isinstance(assembled, str):
+        checks.append(Check("(17a) Ā − B̄_0 C̄_0 has the SCB block pattern", False, assembled))
+    else:
+        checks.append(_check("(17a) Ā − B̄_0 C̄_0 has the SCB block pattern", Q(scb.A_s), assembled))
+    Bd_full = vstack([Q.zeros(na + nb + nc, md), Q(scb.B_d)], md) if md else Q.zeros(n, 0)
+    Bc_full = vstack([Q.zeros(na + nb, mc), Q(scb.B_c), Q.zeros(nd, mc)], mc) if mc else Q.zeros(n, 0)
+    checks.append(_check("(17a) B̄ = [B̄_0, [0; 0; 0; B_d], [0; 0; B_c; 0]]", Q(scb.B_bar),
+                         hstack([Q(scb.B_0), Bd_full, Bc_full], n)))
     Cbar = vstack([Q(scb.C_0),
-                    hstack([Q.zeros(md, na + nb), Q(scb.C_d)], md) if md else Q.zeros(0, n),
-                    hstack([Q.zeros(pb, na), Q(scb.C_b), Q.zeros(pb, nd)], pb) if pb else Q.zeros(0, n)], n)
-    checks.append(_check("(17b) C̄ = [C̄_0; [0, 0, C_d]; [0, C_b, 0]]", Q(scb.C_bar), Cbar))
+                    hstack([Q.zeros(md, na + nb + nc), Q(scb.C_d)], md) if md else Q.zeros(0, n),
+                    hstack([Q.zeros(pb, na), Q(scb.C_b), Q.zeros(pb, nc + nd)], pb) if pb else Q.zeros(0, n)], n)
+    checks.append(_check("(17b) C̄ = [C̄_0; [0, 0, 0, C_d]; [0, C_b, 0, 0]]", Q(scb.C_bar), Cbar))
     Dbar = Q([[1 if (i == j and i < m0) else 0 for j in range(m)] for i in range(p)], shape=(p, m))
     checks.append(_check("(17b) D̄ = [[I_m0, 0], [0, 0]]", Q(scb.D_bar), Dbar))
     checks.append(_check("(18)–(19) A_b = A_b* + H_bb C_b", Q(scb.A_b),
@@ -137,15 +161,20 @@ def scb_certificate(scb: SpecialCoordinateBasis) -> Certificate:
         so = True
     checks.append(Check("(p.4) (A_d, B_d, C_d) strongly observable (no invariant zeros)", so,
                         None if so else "the d subsystem has invariant zeros"))
-    ok = zeros.normal_rank == n + m and scb.n_c == 0
-    checks.append(Check("(p.5) left invertible (normrank P = n + m) and n_c = 0", ok,
-                        None if ok else f"normrank P = {zeros.normal_rank}, n + m = {n + m}"))
+    ok = (zeros.normal_rank == n + m) == (nc == 0)
+    checks.append(Check("(p.5) left invertible (normrank P = n + m) ⇔ n_c = 0", ok,
+                        None if ok else f"normrank P = {zeros.normal_rank}, n + m = {n + m}, n_c = {nc}"))
     V = weakly_unobservable_subspace(sys) if n else Q.zeros(0, 0)
-    Ta = Ts.take_cols(range(na))
-    ok = V.cols == na and (na == 0 or hstack([V, Ta], n).rank() == na)
-    checks.append(Check("(p.6) the x_a columns of Ts span V*", ok, None if ok else f"dim V* = {V.cols}, n_a = {na}"))
+    Tac = Ts.take_cols([*range(na), *range(na + nb, na + nb + nc)])
+    ok = V.cols == na + nc and (V.cols == 0 or hstack([V, Tac], n).rank() == V.cols)
+    checks.append(Check("(p.6) the x_a and x_c columns of Ts span V*", ok,
+                        None if ok else f"dim V* = {V.cols}, n_a + n_c = {na + nc}"))
     red = reduce_system(sys)
-    ok = red.dims.n_c == 0 and hstack([red.S, Ts.take_cols(range(na + nb, n))], n).rank() == red.S.cols == nd
-    checks.append(Check("(p.7) R* = V* ∩ S* = {0} and the x_d columns of Ts span S*", ok,
-                        None if ok else f"dim R* = {red.dims.n_c}, dim S* = {red.S.cols}, n_d = {nd}"))
+    Tc = Ts.take_cols(range(na + nb, na + nb + nc))
+    Tcd = Ts.take_cols(range(na + nb, n))
+    R = intersection(red.V, red.S)
+    ok = (R.cols == nc and (nc == 0 or hstack([R, Tc], n).rank() == nc)
+          and hstack([red.S, Tcd], n).rank() == red.S.cols == nc + nd)
+    checks.append(Check("(p.7) the x_c columns of Ts span R* = V* ∩ S* (and x_c, x_d span S*)", ok,
+                        None if ok else f"dim R* = {R.cols}, dim S* = {red.S.cols}, n_c = {nc}, n_d = {nd}"))
     return Certificate("special coordinate basis", checks)

@@ -62,7 +62,7 @@ def _sum(U: QMatrix, V: QMatrix) -> QMatrix:
     return _column_space(hstack([U, V], U.rows))
 
 
-def _intersection(U: QMatrix, V: QMatrix) -> QMatrix:
+def intersection(U: QMatrix, V: QMatrix) -> QMatrix:
     """A basis of ``span U ∩ span V`` (U, V with independent columns)."""
     n = U.rows
     if U.cols == 0 or V.cols == 0:
@@ -133,7 +133,7 @@ def _strongly_reachable(A: QMatrix, B: QMatrix, C: QMatrix) -> QMatrix:
     kerC = C.nullspace() if C.rows else Q.identity(n)
     S = _column_space(B)
     while True:
-        Sn = _sum(_column_space(B), A @ _intersection(S, kerC)) if S.cols else _column_space(B)
+        Sn = _sum(_column_space(B), A @ intersection(S, kerC)) if S.cols else _column_space(B)
         if Sn.cols == S.cols:
             return Sn
         S = Sn
@@ -383,7 +383,127 @@ def reduce_system(sys: DelaySystem) -> _Reduced:
     reduced = DelaySystem(ft.A_star.to_polymatrix(), ft.B1.to_polymatrix(), ft.C1.to_polymatrix(), None)
     V = weakly_unobservable_subspace(reduced) if n else Q.zeros(0, 0)
     S = _strongly_reachable(ft.A_star, ft.B1, ft.C1) if ft.B1.cols else Q.zeros(n, 0)
-    R = _intersection(V, S)
+    R = intersection(V, S)
     VS = _sum(V, S) if V.cols + S.cols else Q.zeros(n, 0)
     dims = SCBDimensions(n_a=V.cols - R.cols, n_b=n - VS.cols, n_c=R.cols, n_d=S.cols - R.cols, m_0=ft.m0)
     return _Reduced(ft, A, B, C, D, V, S, dims)
+
+
+# -- the whole basis of a strictly proper system ------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CoreSCB:
+    """The basis of a strictly proper ``(A, B, C)``: ``Ts`` (order a, b, c, d), ``Ti`` (order d, c),
+    ``To`` (order y_d, y_b) and the sizes."""
+
+    Ts: QMatrix
+    Ti: QMatrix
+    To: QMatrix
+    n_a: int
+    n_b: int
+    n_c: int
+    n_d: int
+    q: tuple[int, ...]
+    l: tuple[int, ...]
+
+
+def left_invertible_scb(A: QMatrix, B: QMatrix, C: QMatrix, V: QMatrix) -> CoreSCB:
+    """Steps 3–5 and Theorem 1 for a left-invertible strictly proper system (``V = V*``)."""
+    n = A.rows
+    chains = input_chains(A, B, C) if B.cols else []
+    q = tuple(ch.closed_at for ch in chains)
+    T_d = hstack([c for ch in chains for c in reversed(ch.cols)], n) if chains else Q.zeros(n, 0)
+    Ti = hstack([ch.coef for ch in chains], B.cols) if chains else Q.zeros(0, 0)
+    obs = observable_chains(A, C, hstack([V, T_d], n))
+    Phi_d, kd = chain_rows(A, C, T_d, q, chain_starts(q))
+    na = V.cols
+    if na:
+        A_a = left_solve(hstack([V, B], n).T, (A @ V).T, "A T_a = T_a A_a + B G").T.take_rows(range(na))
+        Phi_a = zero_dynamics_rows(A, C, V, T_d, obs, A_a)
+    else:
+        Phi_a = Q.zeros(0, n)
+    Ts = vstack([Phi_a, obs.rows, Phi_d], n).inverse(name="Ts⁻¹")
+    Ts = Ts @ theorem1_transformation(Ts, A, q, na + obs.rows.rows)
+    p = C.rows
+    To = vstack([kd, obs.y_rows], p).inverse(name="To⁻¹") if p else Q.zeros(0, 0)
+    return CoreSCB(Ts, Ti, To, na, obs.rows.rows, 0, T_d.cols, q, tuple(obs.l))
+
+
+def _kron(X: QMatrix, Y: QMatrix) -> QMatrix:
+    a, b = X.tolist(), Y.tolist()
+    return Q([[a[i][j] * b[k][l] for j in range(X.cols) for l in range(Y.cols)]
+              for i in range(X.rows) for k in range(Y.rows)], shape=(X.rows * Y.rows, X.cols * Y.cols))
+
+
+def _vec(M: QMatrix) -> QMatrix:
+    """Columns stacked (column-major)."""
+    return vstack([M.col(j) for j in range(M.cols)], 1) if M.cols else Q.zeros(0, 1)
+
+
+def controllable_part_scb(A: QMatrix, B: QMatrix, C: QMatrix, R: QMatrix) -> CoreSCB:
+    """The basis of a system that is not left invertible (``R = R*`` ≠ 0, the columns of ``x_c``).
+
+    ``R*`` is a controllability subspace in ``ker C``: with a friend ``K``
+    (``(A + B K) R* ⊆ R*``) the quotient by ``R*``, driven by the inputs that do not point
+    into ``R*``, is left invertible; its basis (:func:`left_invertible_scb`) is lifted by
+    adding ``R*`` components ``R z`` to its columns, chosen so that ``x_c'`` sees the
+    other parts only as (17a) allows: along every chain ``z_{k−1}`` solves
+    ``A t_k − t_{k−1} ∈ span B_d`` (the d-chain ends are the input directions exactly), and
+    the ``x_a`` columns solve ``A_r Z − Z A_a + B_c W = −ρ`` (``(A_r, B_c)`` is controllable).
+    """
+    n, m = B.shape
+    nc = R.cols
+    comp = [_unit_col(n, i) for i in _complement_rows(R)]
+    Qm = hstack(comp, n)
+    inv = hstack([Qm, R], n).inverse(name="[Q, R*]")
+    Pq, Pr = inv.take_rows(range(n - nc)), inv.take_rows(range(n - nc, n))
+    Uc = (Pq @ B).nullspace()  # inputs pointing into R*
+    Tid0 = hstack([_unit_col(m, i) for i in _complement_rows(Uc)], m) if Uc.cols < m else Q.zeros(m, 0)
+    if nc == n:  # the whole state is x_c (then C = 0 and every input points into R*)
+        return CoreSCB(R, hstack([Tid0, Uc], m), Q.identity(C.rows), 0, 0, nc, 0, (), ())
+    X = left_solve(hstack([R, B], n).T, (A @ R).T, "A R* = R* A_r + B G").T
+    A_r, G = X.take_rows(range(nc)), X.take_rows(range(nc, nc + m))
+    K = -(G @ (R.T @ R).inverse(name="Rᵀ R") @ R.T)
+    AK = A + B @ K
+    A_q, B_q, C_q = Pq @ AK @ Qm, Pq @ B @ Tid0, C @ Qm
+    quotient = DelaySystem(A_q.to_polymatrix(), B_q.to_polymatrix(), C_q.to_polymatrix(), None)
+    Vq = weakly_unobservable_subspace(quotient) if n - nc else Q.zeros(0, 0)
+    core = left_invertible_scb(A_q, B_q, C_q, Vq)
+    S = core.Ts
+    Ti_d = Tid0 @ core.Ti
+    BTd = B @ Ti_d
+    basis = hstack([BTd, R], n)
+
+    def r_part(v: QMatrix) -> QMatrix:
+        """ρ with v = B Ti_d γ + R ρ."""
+        sol = left_solve(basis.T, v.T, "a column of the lifted basis").T
+        return sol.take_rows(range(BTd.cols, BTd.cols + nc))
+
+    cols: dict[int, QMatrix] = {}
+    na, nb = core.n_a, core.n_b
+    for offset, lengths, is_d in ((na, core.l, False), (na + nb, core.q, True)):
+        for i, (s0, L) in enumerate(zip(chain_starts(lengths, offset), lengths, strict=True)):
+            end = s0 + L - 1
+            cols[end] = BTd.col(i) if is_d else Qm @ S.col(end)
+            for k in range(end, s0, -1):
+                cols[k - 1] = Qm @ S.col(k - 1) + R @ r_part(A @ cols[k] - Qm @ S.col(k - 1))
+    if na:
+        S_a = S.take_cols(range(na))
+        A_a = (S.inverse(name="Ts of the quotient") @ A_q @ S).take_rows(range(na)).take_cols(range(na))
+        rho = hstack([r_part(A @ Qm @ S_a.col(j) - Qm @ (S_a @ A_a).col(j)) for j in range(na)], nc)
+        bc = Pr @ B @ Uc
+        M = hstack([_kron(Q.identity(na), A_r) - _kron(A_a.T, Q.identity(nc)), _kron(Q.identity(na), bc)],
+                   nc * na)
+        zw = left_solve(M.T, (-_vec(rho)).T, "A_r Z − Z A_a + B_c W = −ρ").T
+        Z = hstack([zw.take_rows(range(j * nc, (j + 1) * nc)) for j in range(na)], nc)
+        for j in range(na):
+            cols[j] = Qm @ S_a.col(j) + R @ Z.col(j)
+    order = [cols[j] for j in range(na + nb)] + [R.col(j) for j in range(nc)] + \
+        [cols[j] for j in range(na + nb, n - nc)]
+    Ts = hstack(order, n)
+    # the friend K puts B_d-terms into every column of the d chain ends: Theorem 1 once more, on the whole
+    # basis (it keeps C_d and B_d, so the patterns of the other parts stay)
+    Ts = Ts @ theorem1_transformation(Ts, A, core.q, na + nb + nc)
+    Ti = hstack([Ti_d, Uc], m)
+    return CoreSCB(Ts, Ti, core.To, na, nb, nc, core.n_d, core.q, core.l)
