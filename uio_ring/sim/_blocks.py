@@ -92,16 +92,31 @@ def toeplitz_powers(Phi: np.ndarray, N: int) -> tuple[np.ndarray, np.ndarray]:
     return pows[1:], T
 
 
+def _mm_shared(X: np.ndarray, M: np.ndarray) -> np.ndarray:
+    """``X @ M`` for ``X`` ``(…, d)`` and one ``M`` ``(d, e)``: one 2-D product."""
+    if X.ndim == 2:
+        return X @ M
+    return (X.reshape(-1, X.shape[-1]) @ M).reshape(X.shape[:-1] + (M.shape[-1],))
+
+
+def _mm_stacked(X: np.ndarray, M: np.ndarray) -> np.ndarray:
+    """``X[s] @ M[s]`` for every trajectory s: ``X`` ``(S, d)`` or ``(S, r, d)``, ``M`` ``(S, d, e)``."""
+    if X.ndim == 2:
+        return np.matmul(X[:, None, :], M)[:, 0]
+    return np.matmul(X, M)
+
+
 _CACHE: dict[tuple, BlockIntegrator] = {}
 _CACHE_SIZE = 8
 
 
 def block_integrator(A: np.ndarray, N: int, dt: float) -> BlockIntegrator:
-    """A :class:`BlockIntegrator`, reused when ``A``, N and dt repeat (parameter sweeps)."""
+    """A :class:`BlockIntegrator`, reused when ``A``, N and dt repeat (parameter sweeps); for
+    ``A`` of shape ``(S, K+1, n, n)`` (one plant per trajectory), a :class:`StackedBlockIntegrator`."""
     key = (A.shape, A.tobytes(), N, float(dt))
     integ = _CACHE.get(key)
     if integ is None:
-        integ = BlockIntegrator(A, N, dt)
+        integ = StackedBlockIntegrator(A, N, dt) if A.ndim == 4 else BlockIntegrator(A, N, dt)
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
         _CACHE[key] = integ
@@ -211,6 +226,14 @@ class BlockIntegrator:
         G = np.matmul(Fg.transpose(1, 0, 2), self.WT)  # (N, B, n)
         return G.transpose(1, 0, 2)
 
+    #: ``X @ M`` for the block maps: one matrix for every trajectory (rows on the leading axes).
+    _mm = staticmethod(_mm_shared)
+
+    def _quadrature_batch(self, Fin: np.ndarray) -> np.ndarray:
+        """:meth:`quadrature` of ``(S, B, N+1, n)`` forcing samples → ``(S, B, N, n)``."""
+        S_, B = Fin.shape[:2]
+        return self.quadrature(Fin.reshape(S_ * B, self.N + 1, self.n)).reshape(S_, B, self.N, self.n)
+
     def run(
         self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress, end_fix: np.ndarray | None = None
     ) -> None:
@@ -235,48 +258,49 @@ class BlockIntegrator:
         if end_fix is not None:
             Fin[:, :, N, :] += end_fix
         step = max(1, nblocks // 100)
+        mm = self._mm
         if self.method == "sub":
             m, S = self.m, self.S
-            Gin = self.quadrature(Fin.reshape(S_ * nblocks, N + 1, n))  # (S_ nblocks, N, n)
-            XW = (Gin.reshape(S_ * nblocks * S, m * n) @ self.TmT).reshape(S_, nblocks, S, m * n)
+            Gin = self._quadrature_batch(Fin)  # (S_, nblocks, N, n)
+            XW = mm(Gin.reshape(S_, nblocks * S, m * n), self.TmT).reshape(S_, nblocks, S, m * n)
             PT, sub = self.PT, self.sub
             KN = K * N
             for k in range(nblocks):
                 a = k * N
                 for c, (lo, width, MdT) in enumerate(sub):
                     r0 = a + KN + c * m
-                    acc = Xb[:, r0] @ PT + XW[:, k, c]
+                    acc = mm(Xb[:, r0], PT) + XW[:, k, c]
                     if K == 1:
-                        acc += Xb[:, a + lo : a + lo + width].reshape(S_, -1) @ MdT
+                        acc += mm(Xb[:, a + lo : a + lo + width].reshape(S_, -1), MdT)
                     elif K > 1:
                         parts = [Xb[:, a + (K - i) * N + lo : a + (K - i) * N + lo + width] for i in range(1, K + 1)]
-                        acc += np.concatenate(parts, axis=1).reshape(S_, -1) @ MdT
+                        acc += mm(np.concatenate(parts, axis=1).reshape(S_, -1), MdT)
                     Xb[:, r0 + 1 : r0 + m + 1] = acc.reshape(S_, m, n)
                 if k % step == 0:
                     progress.update(k)
         elif self.method == "super":
             B, L = self.B, K * N + 1
             ns = nblocks // B
-            XS = (Fin[:, : ns * B].reshape(S_ * ns, B * (N + 1) * n) @ self.SfT).reshape(S_, ns, B * N * n)
+            XS = mm(Fin[:, : ns * B].reshape(S_, ns, B * (N + 1) * n), self.SfT)
             SwT = self.SwT
             for g in range(ns):
                 a = g * B * N
-                Xb[:, a + L : a + L + B * N] = (Xb[:, a : a + L].reshape(S_, -1) @ SwT + XS[:, g]).reshape(S_, B * N, n)
+                Xb[:, a + L : a + L + B * N] = (mm(Xb[:, a : a + L].reshape(S_, -1), SwT) + XS[:, g]).reshape(S_, B * N, n)
                 if g % max(1, ns // 100) == 0:
                     progress.update(g * B)
             MT = self.MT
             left = nblocks - ns * B
-            XW = (Fin[:, ns * B :].reshape(S_ * left, (N + 1) * n) @ self.QinT).reshape(S_, left, N * n)
+            XW = mm(Fin[:, ns * B :].reshape(S_, left, (N + 1) * n), self.QinT)
             for k in range(ns * B, nblocks):  # the blocks left over
                 a = k * N
-                Xb[:, a + L : a + L + N] = (Xb[:, a : a + L].reshape(S_, -1) @ MT + XW[:, k - ns * B]).reshape(S_, N, n)
+                Xb[:, a + L : a + L + N] = (mm(Xb[:, a : a + L].reshape(S_, -1), MT) + XW[:, k - ns * B]).reshape(S_, N, n)
         elif self.method == "dense":
-            XW = (Fin.reshape(S_ * nblocks, (N + 1) * n) @ self.QinT).reshape(S_, nblocks, N * n)  # from 0
+            XW = mm(Fin.reshape(S_, nblocks, (N + 1) * n), self.QinT)  # from 0
             MT = self.MT
             L = K * N + 1
             for k in range(nblocks):
                 a = k * N  # window X[a : a + K N + 1] = x((k−K) h) … x(k h)
-                Xb[:, a + L : a + L + N] = (Xb[:, a : a + L].reshape(S_, -1) @ MT + XW[:, k]).reshape(S_, N, n)
+                Xb[:, a + L : a + L + N] = (mm(Xb[:, a : a + L].reshape(S_, -1), MT) + XW[:, k]).reshape(S_, N, n)
                 if k % step == 0:
                     progress.update(k)
         else:
@@ -294,3 +318,58 @@ class BlockIntegrator:
                     Xs[a + K * N + 1 : a + K * N + 1 + N] = self.scan.run(Xs[a + K * N], G)
                     if k % step == 0:
                         progress.update(k)
+
+
+class StackedBlockIntegrator(BlockIntegrator):
+    """S plants of the same size and delay degree, one per trajectory of a batch: the block
+    maps of each (:class:`BlockIntegrator`, all with the same method) stacked on a leading
+    axis, so that every block product of :meth:`run` is one batched product
+    ``X[s] @ M[s]`` over the S trajectories (the loop over the blocks is shared).
+
+    >>> A = np.array([[[[-1.0]], [[0.5]]], [[[-2.0]], [[0.25]]]])   # x' = a x + b x(t − 1), two plants
+    >>> st = StackedBlockIntegrator(A, 4, 0.25)
+    >>> X = np.zeros((2, 4 + 8 + 1, 1)); X[:, :5] = 1.0                # history x = 1 on [−1, 0]
+    >>> st.run(X, np.zeros((2, 9, 1)), 2, Progress(1, False))
+    >>> X1 = np.zeros((4 + 8 + 1, 1)); X1[:5] = 1.0
+    >>> BlockIntegrator(A[1], 4, 0.25).run(X1, np.zeros((9, 1)), 2, Progress(1, False))
+    >>> bool(np.allclose(X[1], X1, rtol=1e-14, atol=0))
+    True
+    """
+
+    _mm = staticmethod(_mm_stacked)
+
+    def __init__(self, A: np.ndarray, N: int, dt: float, *, method: str = "auto"):
+        first = BlockIntegrator(A[0], N, dt, method=method)
+        parts = [first] + [BlockIntegrator(A[s], N, dt, method=first.method) for s in range(1, A.shape[0])]
+        self.__dict__.update(first.__dict__)
+        self.parts, self.A = parts, A
+        for name in ("W", "WT", "Phi", "MT", "QinT", "SwT", "SfT", "PT", "TmT"):
+            if hasattr(first, name):
+                setattr(self, name, np.stack([getattr(p, name) for p in parts]))
+        if first.method == "sub":
+            self.sub = [(lo, width, np.stack([p.sub[c][2] for p in parts])) for c, (lo, width, _) in enumerate(first.sub)]
+
+    def _quadrature_batch(self, Fin: np.ndarray) -> np.ndarray:
+        """Per trajectory, its own stencil weights: ``(S, B, N+1, n)`` → ``(S, B, N, n)``."""
+        S_, B = Fin.shape[:2]
+        Fg = Fin[:, :, self.idx, :].reshape(S_, B, self.N, -1).transpose(0, 2, 1, 3)  # (S, N, B, npts n)
+        return np.matmul(Fg, self.WT).transpose(0, 2, 1, 3)
+
+    def step_block(self, window: np.ndarray, forcing: np.ndarray) -> np.ndarray:
+        raise NotImplementedError("step_block: one plant at a time (BlockIntegrator)")
+
+    def quadrature(self, F: np.ndarray) -> np.ndarray:
+        raise NotImplementedError("quadrature: per plant (self.parts[s].quadrature)")
+
+    def run(
+        self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress, end_fix: np.ndarray | None = None
+    ) -> None:
+        """:meth:`BlockIntegrator.run` with one plant per trajectory: ``X``, ``fin`` and ``end_fix``
+        have the leading axis S (one row per plant)."""
+        if X.ndim != 3 or X.shape[0] != len(self.parts):
+            raise ValueError(f"X: expected ({len(self.parts)}, rows, n), one trajectory per plant; got {X.shape}")
+        if self.method != "chunked":
+            return super().run(X, fin, nblocks, progress, end_fix=end_fix)
+        for s_, part in enumerate(self.parts):  # large N: per plant (as a batch of one plant does)
+            part.run(X[s_], fin[s_], nblocks, progress, end_fix=None if end_fix is None else end_fix[s_])
+        return None

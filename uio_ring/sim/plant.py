@@ -61,7 +61,29 @@ class SystemArrays:
 
     @staticmethod
     def deg(M: np.ndarray) -> int:
-        return M.shape[0] - 1
+        """Delay degree of a coefficient stack (the same for a stack per plant, ``(K, deg + 1, ·, ·)``)."""
+        return M.shape[-3] - 1
+
+    @classmethod
+    def stack(cls, plants: list[SystemArrays]) -> SystemArrays:
+        """One plant per scenario: every matrix ``(K, deg + 1, rows, cols)``.  The plants must
+        have the same sizes and the same delay degree of each matrix (else SimulationError).
+
+        >>> one = SystemArrays.from_system(type("P", (), {"A": [[[-1.0]]], "C": [[[1.0]]]}))
+        >>> SystemArrays.stack([one, one]).A.shape
+        (2, 1, 1, 1)
+        """
+        ref = plants[0]
+        for k, p in enumerate(plants):
+            for name in "ABCDEF":
+                got, want = getattr(p, name).shape, getattr(ref, name).shape
+                if got != want:
+                    raise SimulationError(
+                        f"plant {k}: sys.{name} has {got[0]} delay coefficients of size {got[1]}×{got[2]}; "
+                        f"every plant of a batch needs the sizes and delays of the first "
+                        f"({want[0]} coefficients of {want[1]}×{want[2]})")
+        return cls(*(np.stack([getattr(p, name) for p in plants]) for name in "ABCDEF"),
+                   ref.n_x, ref.n_w, ref.n_u, ref.n_y)
 
     @property
     def state_delay(self) -> int:
