@@ -20,12 +20,12 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
 from uio_ring.errors import SpecError, require
+from uio_ring.sim.plant import perturbed_plant
 from uio_ring.sweeps.spec import Chunk, Run, SweepSpec, load_sweep
 
 __all__ = ["sweep", "SweepResult", "run_chunk"]
@@ -66,24 +66,6 @@ def _noise_gain(design: Any, h: Any) -> float:
         return float(design.performance(h=h).noise_gain.max())
     except UioRingError:
         return float("nan")
-
-
-def _plant(system: Any, eps: float, seed: int) -> Any:
-    """The plant with every matrix ``M ∘ (1 + ε R)``, ``R`` uniform in [−1, 1] (seeded)."""
-    from uio_ring.sim.plant import SystemArrays
-
-    if eps == 0:
-        return system
-    S = SystemArrays.from_system(system)
-    rng = np.random.default_rng([seed, 7919])
-    mats = {}
-    for name in "ABCDEF":
-        M = getattr(S, name)
-        mats[name] = M * (1.0 + eps * rng.uniform(-1.0, 1.0, size=M.shape))
-    return SimpleNamespace(**mats, h=system.h, is_delay_free=system.is_delay_free,
-                           state_names=system.state_names, output_names=system.output_names,
-                           unknown_input_names=system.unknown_input_names,
-                           known_input_names=system.known_input_names)
 
 
 def _w_signal(spec: Any, p: dict[str, Any], seed: int, n_w: int, t_final: float) -> Any:
@@ -172,7 +154,7 @@ def run_chunk(task: dict[str, Any]) -> list[dict[str, Any]]:
     good, scen = [], []
     for r in runs:
         try:
-            plant = _plant(spec.system, float(r.params.get("perturbation", 0.0)),
+            plant = perturbed_plant(spec.system, float(r.params.get("perturbation", 0.0)),
                            int(r.params.get("perturbation_seed", 0)))
             scen.append(_scenario(spec, r, spec.system.n_x, spec.system.n_w, plant))
             good.append(r)
