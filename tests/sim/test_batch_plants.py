@@ -50,9 +50,9 @@ def _check(des, runs, res, **kw):
         r = simulate_observer(des, plant, w=s.w, u=s.u, x0=s.x0, noise=s.noise, seed=s.seed, x_hat0=s.x_hat0,
                               check=False, **kw)
         scale = max(np.max(np.abs(r.x)), 1.0)
-        for name in ("x", "y", "x_hat"):
+        for name, rel in (("x", 1e-12), ("y", 1e-12), ("x_hat", 1e-11)):  # x̂ differentiates y: last bits × ~10
             dev = np.max(np.abs(getattr(r, name) - getattr(res, name)[k]))
-            assert dev <= 1e-12 * scale, (k, name, dev)
+            assert dev <= rel * scale, (k, name, dev)
 
 
 @pytest.mark.parametrize("dt, K", [(1e-3, 5), (5e-4, 9), (1e-4, 3)])  # N = 10 (super), 20 (sub), 100 (sub, m = 25)
@@ -92,7 +92,8 @@ def test_scb_plants():
     _check(des, list(zip(plants, sc, strict=True)), res, t_final=0.2, dt=1e-3)
 
 
-@pytest.mark.parametrize("method, N", [("super", 4), ("sub", 20), ("dense", 6), ("chunked", 40)])
+@pytest.mark.parametrize("method, N", [("super", 4), ("sub", 20), ("dense", 6), ("chunked", 40),
+                                       ("scan", 20), ("scan", 17), ("scan", 3)])
 def test_stacked_integrator_is_each_integrator(method, N):
     """The stacked block maps give each plant's own integration (two-delay plants, inputs)."""
     rng = np.random.default_rng(N)
@@ -108,7 +109,7 @@ def test_stacked_integrator_is_each_integrator(method, N):
     for s in range(S_):
         Xs = np.zeros_like(X[s])
         Xs[: 2 * N + 1] = X[s, : 2 * N + 1]
-        BlockIntegrator(A[s], N, 0.01, method=method).run(Xs, fin[s], nb, Progress(1, False), end_fix=fix[s])
+        BlockIntegrator(A[s], N, 0.01, method="auto" if method == "scan" else method).run(Xs, fin[s], nb, Progress(1, False), end_fix=fix[s])
         np.testing.assert_allclose(X[s], Xs, rtol=1e-13, atol=1e-13 * np.max(np.abs(Xs)))
 
 

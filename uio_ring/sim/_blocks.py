@@ -168,8 +168,10 @@ class BlockIntegrator:
             self.QinT = (T @ Qin.reshape(N * n, (N + 1) * n)).T.copy()
             if method == "super":
                 self._init_super()
-        else:
+        elif method == "chunked":
             self.scan = LinearScan(self.Phi, chunk=min(32, max(N, 1)))
+        elif method != "weights":  # "weights": the stencil weights and Φ only (StackedBlockIntegrator)
+            raise ValueError(f"method={method!r}: expected auto, sub, super, dense, chunked or weights")
 
     def _init_sub(self, A: np.ndarray, m: int, npts: int) -> None:
         """Sub-blocks of m steps (m | N): per sub-block one map from the delayed samples it
@@ -320,6 +322,17 @@ class BlockIntegrator:
                         progress.update(k)
 
 
+def STACKED_METHOD(N: int) -> str:  # noqa: N802 - a policy, replaceable in tests
+    """Method of a :class:`StackedBlockIntegrator` for N steps per block (measured, paper 001,
+    K = 100: per-plant sub-block maps are K separate matrices that do not stay in cache)."""
+    return "super" if N <= SUPER_MAX_N else "scan"
+
+
+def SCAN_CHUNK(N: int) -> int:  # noqa: N802 - a policy, replaceable in tests
+    """Steps per chunk of the stacked scan: the largest divisor of N that is ≤ 16."""
+    return max(d for d in range(1, min(N, 16) + 1) if N % d == 0)
+
+
 class StackedBlockIntegrator(BlockIntegrator):
     """S plants of the same size and delay degree, one per trajectory of a batch: the block
     maps of each (:class:`BlockIntegrator`, all with the same method) stacked on a leading
@@ -339,21 +352,50 @@ class StackedBlockIntegrator(BlockIntegrator):
     _mm = staticmethod(_mm_stacked)
 
     def __init__(self, A: np.ndarray, N: int, dt: float, *, method: str = "auto"):
-        first = BlockIntegrator(A[0], N, dt, method=method)
+        if method == "auto":
+            method = STACKED_METHOD(N)
+        first = BlockIntegrator(A[0], N, dt, method="weights" if method == "scan" else method)
         parts = [first] + [BlockIntegrator(A[s], N, dt, method=first.method) for s in range(1, A.shape[0])]
         self.__dict__.update(first.__dict__)
         self.parts, self.A = parts, A
+        self.method = method
         for name in ("W", "WT", "Phi", "MT", "QinT", "SwT", "SfT", "PT", "TmT"):
             if hasattr(first, name):
                 setattr(self, name, np.stack([getattr(p, name) for p in parts]))
         if first.method == "sub":
             self.sub = [(lo, width, np.stack([p.sub[c][2] for p in parts])) for c, (lo, width, _) in enumerate(first.sub)]
+        nodes = self.idx - np.arange(N)[:, None]  # steps with the same stencil nodes share their weights
+        keys = [tuple(int(q) for q in row) for row in nodes]
+        self.groups = [np.array([r for r in range(N) if keys[r] == key]) for key in dict.fromkeys(keys)]
+        if method == "scan":
+            self._init_scan()
+
+    def _init_scan(self) -> None:
+        """The delayed forcing of a block's N steps from its window, per plant: ``g_r = Σ_{i,q}
+        W[r, q] A_i x(idx[r, q] + (K − i) N)`` as one row-vector product ``x[gidx[r]] @ WA[r]``."""
+        N, n, K = self.N, self.n, self.K
+        npts = self.idx.shape[1]
+        self.gidx = np.concatenate([(K - i) * N + self.idx for i in range(1, K + 1)], axis=1) if K else None
+        m = SCAN_CHUNK(N)  # steps per chunk: x_{r+m} from x_r and the chunk's forcing at once
+        pw = [toeplitz_powers(p.Phi, m) for p in self.parts]
+        self.m_scan = m
+        self.TmT = np.stack([T.T for _, T in pw])  # (S, m n, m n): the chunk's particular solution
+        self.PT = np.stack([P.reshape(m * n, n).T for P, _ in pw])  # (S, n, m n): Φ^1 … Φ^m
+        self.PmT = self.PT[:, :, (m - 1) * n :].copy()  # (S, n, n): Φ^m
+        if K:
+            W = self.W[:, [int(g[0]) for g in self.groups]]  # one weight table per group of steps
+            WA = np.einsum("sgqab,sibc->sgqiac", W, self.A[:, 1:])  # W[r, q] A_i
+            self.WA = WA.transpose(0, 1, 3, 2, 5, 4).reshape(len(self.parts), len(self.groups), K * npts * n, n)
 
     def _quadrature_batch(self, Fin: np.ndarray) -> np.ndarray:
-        """Per trajectory, its own stencil weights: ``(S, B, N+1, n)`` → ``(S, B, N, n)``."""
+        """Per trajectory, its own stencil weights: ``(S, B, N+1, n)`` → ``(S, B, N, n)`` (one
+        batched product per group of steps with the same stencil)."""
         S_, B = Fin.shape[:2]
-        Fg = Fin[:, :, self.idx, :].reshape(S_, B, self.N, -1).transpose(0, 2, 1, 3)  # (S, N, B, npts n)
-        return np.matmul(Fg, self.WT).transpose(0, 2, 1, 3)
+        out = np.empty((S_, B, self.N, self.n))
+        for rows in self.groups:
+            Fg = Fin[:, :, self.idx[rows], :].reshape(S_, B * rows.size, -1)
+            out[:, :, rows] = np.matmul(Fg, self.WT[:, rows[0]]).reshape(S_, B, rows.size, self.n)
+        return out
 
     def step_block(self, window: np.ndarray, forcing: np.ndarray) -> np.ndarray:
         raise NotImplementedError("step_block: one plant at a time (BlockIntegrator)")
@@ -368,8 +410,48 @@ class StackedBlockIntegrator(BlockIntegrator):
         have the leading axis S (one row per plant)."""
         if X.ndim != 3 or X.shape[0] != len(self.parts):
             raise ValueError(f"X: expected ({len(self.parts)}, rows, n), one trajectory per plant; got {X.shape}")
+        if self.method == "scan":
+            return self._run_scan(X, fin, nblocks, progress, end_fix)
         if self.method != "chunked":
             return super().run(X, fin, nblocks, progress, end_fix=end_fix)
         for s_, part in enumerate(self.parts):  # large N: per plant (as a batch of one plant does)
             part.run(X[s_], fin[s_], nblocks, progress, end_fix=None if end_fix is None else end_fix[s_])
         return None
+
+    def _run_scan(self, Xb: np.ndarray, fb: np.ndarray, nblocks: int, progress: Progress,
+                  end_fix: np.ndarray | None) -> None:
+        """Per block: the forcing of its N steps for every plant at once (delayed part from the
+        window, input part from the quadrature of all blocks), then the N steps
+        ``x_{r+1} = Φ_s x_r + g_r`` in chunks of m: the chunks' solutions from zero in one
+        product, the chunk starts ``x_{c m}`` in sequence (one batched product over the plants
+        per chunk), the states from the starts in one product (as a LinearScan per plant)."""
+        N, n, K = self.N, self.n, self.K
+        S_ = Xb.shape[0]
+        jb = np.arange(nblocks)[:, None] * N + np.arange(N + 1)[None, :]
+        Fin = fb[:, jb]  # (S, nblocks, N+1, n)
+        if end_fix is not None:
+            Fin[:, :, N, :] += end_fix
+        Gin = np.ascontiguousarray(self._quadrature_batch(Fin).transpose(1, 2, 0, 3))  # (nblocks, N, S, n)
+        m, TmT, PT, PmT = self.m_scan, self.TmT, self.PT, self.PmT
+        C = N // m
+        KN, step = K * N, max(1, nblocks // 100)
+        for k in range(nblocks):
+            a = k * N
+            G = Gin[k]
+            if K:
+                G = G.copy()
+                for g, rows in enumerate(self.groups):
+                    Xg = Xb[:, a + self.gidx[rows]].reshape(S_, rows.size, -1)
+                    G[rows] += np.matmul(Xg, self.WA[:, g]).transpose(1, 0, 2)
+            # chunks of m steps: the local solutions from zero at once, the chunk starts in sequence
+            Yp = np.matmul(G.transpose(1, 0, 2).reshape(S_, C, m * n), TmT)  # (S, C, m n)
+            starts = np.empty((S_, C, n))
+            x = Xb[:, a + KN, None, :]  # (S, 1, n)
+            for c in range(C):
+                starts[:, c] = x[:, 0]
+                x = np.matmul(x, PmT)
+                x += Yp[:, c, None, (m - 1) * n :]
+            Yp += np.matmul(starts, PT)
+            Xb[:, a + KN + 1 : a + KN + 1 + N] = Yp.reshape(S_, N, n)
+            if k % step == 0:
+                progress.update(k)
