@@ -49,8 +49,8 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests")]  # this checkout, and the paper 
 from design import paper000, paper001  # noqa: E402
 
 from uio_ring import design_normal_form, design_zheng_bejarano, simulate_observer  # noqa: E402
-from uio_ring.sim.batch import Scenario, simulate_batch  # noqa: E402
 from uio_ring.sim._blocks import _CACHE  # noqa: E402
+from uio_ring.sim.batch import Scenario, simulate_batch  # noqa: E402
 from uio_ring.sim.plant import perturbed_plant  # noqa: E402
 
 

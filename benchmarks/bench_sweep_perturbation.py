@@ -31,11 +31,11 @@ base: {base}
 name: perturbation
 seed: 1
 chunk_size: 25
-simulate: {{t_final: {t_final}, dt: 0.0005, settle: 2}}
+simulate: {{t_final: {t_final}, dt: 0.0005, settle: {settle}}}
 metrics: {{tol: 0.001}}
 axes:
   perturbation: {{linspace: [0, 0.05, 5]}}
-  perturbation_seed: {{linspace: [0, {last}, {n}]}}
+  perturbation_seed: {seeds}
 output: {{formats: [parquet]}}
 """
 
@@ -53,8 +53,8 @@ def main() -> None:
     n = 2 if args.quick else 20
     with tempfile.TemporaryDirectory() as tmp:
         f = Path(tmp) / "perturbation.yaml"
-        f.write_text(SWEEP.format(base=ROOT / "examples" / "zheng2015.yaml", t_final=0.3 if args.quick else 3,
-                                  last=n - 1, n=n))
+        f.write_text(SWEEP.format(base=ROOT / "examples" / "zheng2015.yaml", t_final=0.3 if args.quick else 3, settle=0.2 if args.quick else 2,
+                                  seeds=list(range(n))))
         chunks = load_sweep(f).chunks()
         t0, c0 = time.perf_counter(), os.times()
         res = sweep(f, out=Path(tmp) / "out", workers=args.workers, progress=False)
