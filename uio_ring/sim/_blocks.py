@@ -375,7 +375,8 @@ class StackedBlockIntegrator(BlockIntegrator):
         W[r, q] A_i x(idx[r, q] + (K − i) N)`` as one row-vector product ``x[gidx[r]] @ WA[r]``."""
         N, n, K = self.N, self.n, self.K
         npts = self.idx.shape[1]
-        self.gidx = np.concatenate([(K - i) * N + self.idx for i in range(1, K + 1)], axis=1) if K else None
+        self.gidx: np.ndarray = np.concatenate([(K - i) * N + self.idx for i in range(1, K + 1)], axis=1) if K \
+            else np.zeros((N, 0), dtype=int)
         m = SCAN_CHUNK(N)  # steps per chunk: x_{r+m} from x_r and the chunk's forcing at once
         pw = [toeplitz_powers(p.Phi, m) for p in self.parts]
         self.m_scan = m
@@ -394,7 +395,7 @@ class StackedBlockIntegrator(BlockIntegrator):
         out = np.empty((S_, B, self.N, self.n))
         for rows in self.groups:
             Fg = Fin[:, :, self.idx[rows], :].reshape(S_, B * rows.size, -1)
-            out[:, :, rows] = np.matmul(Fg, self.WT[:, rows[0]]).reshape(S_, B, rows.size, self.n)
+            out[:, :, rows] = np.matmul(Fg, self.WT[:, int(rows[0])]).reshape(S_, B, rows.size, self.n)
         return out
 
     def step_block(self, window: np.ndarray, forcing: np.ndarray) -> np.ndarray:

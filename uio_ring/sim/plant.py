@@ -83,8 +83,8 @@ class SystemArrays:
                         f"plant {k}: sys.{name} has {got[0]} delay coefficients of size {got[1]}×{got[2]}; "
                         f"every plant of a batch needs the sizes and delays of the first "
                         f"({want[0]} coefficients of {want[1]}×{want[2]})")
-        return cls(*(np.stack([getattr(p, name) for p in plants]) for name in "ABCDEF"),
-                   ref.n_x, ref.n_w, ref.n_u, ref.n_y)
+        A, B, C, D, E, F = (np.stack([getattr(p, name) for p in plants]) for name in "ABCDEF")
+        return cls(A, B, C, D, E, F, ref.n_x, ref.n_w, ref.n_u, ref.n_y)
 
     @property
     def state_delay(self) -> int:
