@@ -122,3 +122,19 @@ def test_plants_must_match():
         simulate_batch(des, [Scenario(), Scenario(plant=other)], t_final=0.01, dt=1e-3)
     with pytest.raises(SimulationError, match="scenario 0: the plant's h = 1/50"):
         simulate_batch(des, [Scenario(plant=paper001.system("1/50"))], t_final=0.01, dt=1e-3)
+
+
+def test_perturbed_plant_arrays_mixed_with_the_design_plant():
+    """Coefficient-stack plants (perturbed_plant, as the sweeps make them) next to the design's
+    own plant and to scenarios without a plant (the batch's plant)."""
+    from uio_ring.sim.plant import perturbed_plant
+
+    base = paper001.system()
+    des = design_zheng_bejarano(base, poles=[-10, -25, -50])
+    plants = [None, base, perturbed_plant(base, 0.1, 4), perturbed_plant(base, 0.02, 5)]
+    x0 = np.random.default_rng(1).normal(size=4)
+    sc = [Scenario(x0=x0, w=_w(3.0, 50.0), plant=p) for p in plants]
+    res = simulate_batch(des, sc, t_final=0.2, dt=5e-4, trajectories=True)
+    _check(des, [(base if p is None else p, s) for p, s in zip(plants, sc, strict=True)], res, t_final=0.2, dt=5e-4)
+    assert np.array_equal(res.x[0], res.x[1])  # the batch's plant is the design's
+    assert not np.allclose(res.y[2], res.y[1], rtol=1e-3)  # same x0 and w, another plant
