@@ -286,3 +286,36 @@ def test_files_stay_in_their_folder(tmp_path, top, match):
     f.write_text(f"base: {EXAMPLES / 'zheng2015.yaml'}\n{top}")
     with pytest.raises(SpecError, match=match):
         load_sweep(f)
+
+
+def test_perturbations_share_a_batch_and_keep_the_numbers(tmp_path, monkeypatch):
+    """Runs on differently perturbed plants form one chunk (one batch, a plant per scenario); the
+    table has the numbers of the former grouping (one chunk per perturbed plant) to rounding."""
+    import uio_ring.sweeps.spec as spec_mod
+
+    f = tmp_path / "p.yaml"
+    f.write_text(f"""
+base: {EXAMPLES / "zheng2015.yaml"}
+name: pert
+seed: 2
+samples: 2
+chunk_size: 16
+simulate: {{t_final: 0.6, dt: 0.0005, settle: 0.4}}
+axes:
+  perturbation: [0, 0.02, 0.05]
+  perturbation_seed: [0, 1]
+  noise: {{uniform: [0, 0.01]}}
+""")
+    sw = load_sweep(f)
+    assert [len(c.runs) for c in sw.chunks()] == [12]
+    new = sweep(f, out=tmp_path / "new", workers=1, formats=["parquet"]).table
+    monkeypatch.setattr(spec_mod, "PER_SCENARIO_PLANT_AXES", ())  # the former grouping: one chunk per plant
+    assert len(load_sweep(f).chunks()) == 6
+    old = sweep(f, out=tmp_path / "old", workers=1, formats=["parquet"]).table
+    assert (new["error"] == "").all() and (old["error"] == "").all()
+    assert len(new) == 12 and (new["chunk"] == 0).all()
+    for col in ("run", "seed", "perturbation", "perturbation_seed", "noise", "noise_gain", "t_converge"):
+        pd.testing.assert_series_equal(new[col], old[col])
+    for col in ("max_after", "rms_after", "peak", "t_peak", "final", "max_settled", "rms_settled"):
+        np.testing.assert_allclose(new[col], old[col], rtol=1e-10, atol=0)
+    assert new.groupby("perturbation")["max_settled"].mean().is_monotonic_increasing

@@ -92,16 +92,31 @@ def toeplitz_powers(Phi: np.ndarray, N: int) -> tuple[np.ndarray, np.ndarray]:
     return pows[1:], T
 
 
+def _mm_shared(X: np.ndarray, M: np.ndarray) -> np.ndarray:
+    """``X @ M`` for ``X`` ``(…, d)`` and one ``M`` ``(d, e)``: one 2-D product."""
+    if X.ndim == 2:
+        return X @ M
+    return (X.reshape(-1, X.shape[-1]) @ M).reshape(X.shape[:-1] + (M.shape[-1],))
+
+
+def _mm_stacked(X: np.ndarray, M: np.ndarray) -> np.ndarray:
+    """``X[s] @ M[s]`` for every trajectory s: ``X`` ``(S, d)`` or ``(S, r, d)``, ``M`` ``(S, d, e)``."""
+    if X.ndim == 2:
+        return np.matmul(X[:, None, :], M)[:, 0]
+    return np.matmul(X, M)
+
+
 _CACHE: dict[tuple, BlockIntegrator] = {}
 _CACHE_SIZE = 8
 
 
 def block_integrator(A: np.ndarray, N: int, dt: float) -> BlockIntegrator:
-    """A :class:`BlockIntegrator`, reused when ``A``, N and dt repeat (parameter sweeps)."""
+    """A :class:`BlockIntegrator`, reused when ``A``, N and dt repeat (parameter sweeps); for
+    ``A`` of shape ``(S, K+1, n, n)`` (one plant per trajectory), a :class:`StackedBlockIntegrator`."""
     key = (A.shape, A.tobytes(), N, float(dt))
     integ = _CACHE.get(key)
     if integ is None:
-        integ = BlockIntegrator(A, N, dt)
+        integ = StackedBlockIntegrator(A, N, dt) if A.ndim == 4 else BlockIntegrator(A, N, dt)
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
         _CACHE[key] = integ
@@ -153,8 +168,10 @@ class BlockIntegrator:
             self.QinT = (T @ Qin.reshape(N * n, (N + 1) * n)).T.copy()
             if method == "super":
                 self._init_super()
-        else:
+        elif method == "chunked":
             self.scan = LinearScan(self.Phi, chunk=min(32, max(N, 1)))
+        elif method != "weights":  # "weights": the stencil weights and Φ only (StackedBlockIntegrator)
+            raise ValueError(f"method={method!r}: expected auto, sub, super, dense, chunked or weights")
 
     def _init_sub(self, A: np.ndarray, m: int, npts: int) -> None:
         """Sub-blocks of m steps (m | N): per sub-block one map from the delayed samples it
@@ -211,6 +228,14 @@ class BlockIntegrator:
         G = np.matmul(Fg.transpose(1, 0, 2), self.WT)  # (N, B, n)
         return G.transpose(1, 0, 2)
 
+    #: ``X @ M`` for the block maps: one matrix for every trajectory (rows on the leading axes).
+    _mm = staticmethod(_mm_shared)
+
+    def _quadrature_batch(self, Fin: np.ndarray) -> np.ndarray:
+        """:meth:`quadrature` of ``(S, B, N+1, n)`` forcing samples → ``(S, B, N, n)``."""
+        S_, B = Fin.shape[:2]
+        return self.quadrature(Fin.reshape(S_ * B, self.N + 1, self.n)).reshape(S_, B, self.N, self.n)
+
     def run(
         self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress, end_fix: np.ndarray | None = None
     ) -> None:
@@ -235,48 +260,49 @@ class BlockIntegrator:
         if end_fix is not None:
             Fin[:, :, N, :] += end_fix
         step = max(1, nblocks // 100)
+        mm = self._mm
         if self.method == "sub":
             m, S = self.m, self.S
-            Gin = self.quadrature(Fin.reshape(S_ * nblocks, N + 1, n))  # (S_ nblocks, N, n)
-            XW = (Gin.reshape(S_ * nblocks * S, m * n) @ self.TmT).reshape(S_, nblocks, S, m * n)
+            Gin = self._quadrature_batch(Fin)  # (S_, nblocks, N, n)
+            XW = mm(Gin.reshape(S_, nblocks * S, m * n), self.TmT).reshape(S_, nblocks, S, m * n)
             PT, sub = self.PT, self.sub
             KN = K * N
             for k in range(nblocks):
                 a = k * N
                 for c, (lo, width, MdT) in enumerate(sub):
                     r0 = a + KN + c * m
-                    acc = Xb[:, r0] @ PT + XW[:, k, c]
+                    acc = mm(Xb[:, r0], PT) + XW[:, k, c]
                     if K == 1:
-                        acc += Xb[:, a + lo : a + lo + width].reshape(S_, -1) @ MdT
+                        acc += mm(Xb[:, a + lo : a + lo + width].reshape(S_, -1), MdT)
                     elif K > 1:
                         parts = [Xb[:, a + (K - i) * N + lo : a + (K - i) * N + lo + width] for i in range(1, K + 1)]
-                        acc += np.concatenate(parts, axis=1).reshape(S_, -1) @ MdT
+                        acc += mm(np.concatenate(parts, axis=1).reshape(S_, -1), MdT)
                     Xb[:, r0 + 1 : r0 + m + 1] = acc.reshape(S_, m, n)
                 if k % step == 0:
                     progress.update(k)
         elif self.method == "super":
             B, L = self.B, K * N + 1
             ns = nblocks // B
-            XS = (Fin[:, : ns * B].reshape(S_ * ns, B * (N + 1) * n) @ self.SfT).reshape(S_, ns, B * N * n)
+            XS = mm(Fin[:, : ns * B].reshape(S_, ns, B * (N + 1) * n), self.SfT)
             SwT = self.SwT
             for g in range(ns):
                 a = g * B * N
-                Xb[:, a + L : a + L + B * N] = (Xb[:, a : a + L].reshape(S_, -1) @ SwT + XS[:, g]).reshape(S_, B * N, n)
+                Xb[:, a + L : a + L + B * N] = (mm(Xb[:, a : a + L].reshape(S_, -1), SwT) + XS[:, g]).reshape(S_, B * N, n)
                 if g % max(1, ns // 100) == 0:
                     progress.update(g * B)
             MT = self.MT
             left = nblocks - ns * B
-            XW = (Fin[:, ns * B :].reshape(S_ * left, (N + 1) * n) @ self.QinT).reshape(S_, left, N * n)
+            XW = mm(Fin[:, ns * B :].reshape(S_, left, (N + 1) * n), self.QinT)
             for k in range(ns * B, nblocks):  # the blocks left over
                 a = k * N
-                Xb[:, a + L : a + L + N] = (Xb[:, a : a + L].reshape(S_, -1) @ MT + XW[:, k - ns * B]).reshape(S_, N, n)
+                Xb[:, a + L : a + L + N] = (mm(Xb[:, a : a + L].reshape(S_, -1), MT) + XW[:, k - ns * B]).reshape(S_, N, n)
         elif self.method == "dense":
-            XW = (Fin.reshape(S_ * nblocks, (N + 1) * n) @ self.QinT).reshape(S_, nblocks, N * n)  # from 0
+            XW = mm(Fin.reshape(S_, nblocks, (N + 1) * n), self.QinT)  # from 0
             MT = self.MT
             L = K * N + 1
             for k in range(nblocks):
                 a = k * N  # window X[a : a + K N + 1] = x((k−K) h) … x(k h)
-                Xb[:, a + L : a + L + N] = (Xb[:, a : a + L].reshape(S_, -1) @ MT + XW[:, k]).reshape(S_, N, n)
+                Xb[:, a + L : a + L + N] = (mm(Xb[:, a : a + L].reshape(S_, -1), MT) + XW[:, k]).reshape(S_, N, n)
                 if k % step == 0:
                     progress.update(k)
         else:
@@ -294,3 +320,139 @@ class BlockIntegrator:
                     Xs[a + K * N + 1 : a + K * N + 1 + N] = self.scan.run(Xs[a + K * N], G)
                     if k % step == 0:
                         progress.update(k)
+
+
+def STACKED_METHOD(N: int) -> str:  # noqa: N802 - a policy, replaceable in tests
+    """Method of a :class:`StackedBlockIntegrator` for N steps per block (measured, paper 001,
+    K = 100: per-plant sub-block maps are K separate matrices that do not stay in cache)."""
+    return "super" if N <= SUPER_MAX_N else "scan"
+
+
+def SCAN_CHUNK(N: int) -> int:  # noqa: N802 - a policy, replaceable in tests
+    """Steps per chunk of the stacked scan: the largest divisor of N that is ≤ 16."""
+    return max(d for d in range(1, min(N, 16) + 1) if N % d == 0)
+
+
+class StackedBlockIntegrator(BlockIntegrator):
+    """S plants of the same size and delay degree, one per trajectory of a batch: the block
+    maps of each (:class:`BlockIntegrator`, all with the same method) stacked on a leading
+    axis, so that every block product of :meth:`run` is one batched product
+    ``X[s] @ M[s]`` over the S trajectories (the loop over the blocks is shared).
+
+    >>> A = np.array([[[[-1.0]], [[0.5]]], [[[-2.0]], [[0.25]]]])   # x' = a x + b x(t − 1), two plants
+    >>> st = StackedBlockIntegrator(A, 4, 0.25)
+    >>> X = np.zeros((2, 4 + 8 + 1, 1)); X[:, :5] = 1.0                # history x = 1 on [−1, 0]
+    >>> st.run(X, np.zeros((2, 9, 1)), 2, Progress(1, False))
+    >>> X1 = np.zeros((4 + 8 + 1, 1)); X1[:5] = 1.0
+    >>> BlockIntegrator(A[1], 4, 0.25).run(X1, np.zeros((9, 1)), 2, Progress(1, False))
+    >>> bool(np.allclose(X[1], X1, rtol=1e-14, atol=0))
+    True
+    """
+
+    _mm = staticmethod(_mm_stacked)
+
+    def __init__(self, A: np.ndarray, N: int, dt: float, *, method: str = "auto"):
+        if method == "auto":
+            method = STACKED_METHOD(N)
+        first = BlockIntegrator(A[0], N, dt, method="weights" if method == "scan" else method)
+        parts = [first] + [BlockIntegrator(A[s], N, dt, method=first.method) for s in range(1, A.shape[0])]
+        self.__dict__.update(first.__dict__)
+        self.parts, self.A = parts, A
+        self.method = method
+        for name in ("W", "WT", "Phi", "MT", "QinT", "SwT", "SfT", "PT", "TmT"):
+            if hasattr(first, name):
+                setattr(self, name, np.stack([getattr(p, name) for p in parts]))
+        if first.method == "sub":
+            self.sub = [(lo, width, np.stack([p.sub[c][2] for p in parts])) for c, (lo, width, _) in enumerate(first.sub)]
+        nodes = self.idx - np.arange(N)[:, None]  # steps with the same stencil nodes share their weights
+        keys = [tuple(int(q) for q in row) for row in nodes]
+        self.groups = [np.array([r for r in range(N) if keys[r] == key]) for key in dict.fromkeys(keys)]
+        if method == "scan":
+            self._init_scan()
+
+    def _init_scan(self) -> None:
+        """The delayed forcing of a block's N steps from its window, per plant: ``g_r = Σ_{i,q}
+        W[r, q] A_i x(idx[r, q] + (K − i) N)`` as one row-vector product ``x[gidx[r]] @ WA[r]``."""
+        N, n, K = self.N, self.n, self.K
+        npts = self.idx.shape[1]
+        self.gidx: np.ndarray = np.concatenate([(K - i) * N + self.idx for i in range(1, K + 1)], axis=1) if K \
+            else np.zeros((N, 0), dtype=int)
+        m = SCAN_CHUNK(N)  # steps per chunk: x_{r+m} from x_r and the chunk's forcing at once
+        pw = [toeplitz_powers(p.Phi, m) for p in self.parts]
+        self.m_scan = m
+        self.TmT = np.stack([T.T for _, T in pw])  # (S, m n, m n): the chunk's particular solution
+        self.PT = np.stack([P.reshape(m * n, n).T for P, _ in pw])  # (S, n, m n): Φ^1 … Φ^m
+        self.PmT = self.PT[:, :, (m - 1) * n :].copy()  # (S, n, n): Φ^m
+        if K:
+            W = self.W[:, [int(g[0]) for g in self.groups]]  # one weight table per group of steps
+            WA = np.einsum("sgqab,sibc->sgqiac", W, self.A[:, 1:])  # W[r, q] A_i
+            self.WA = WA.transpose(0, 1, 3, 2, 5, 4).reshape(len(self.parts), len(self.groups), K * npts * n, n)
+
+    def _quadrature_batch(self, Fin: np.ndarray) -> np.ndarray:
+        """Per trajectory, its own stencil weights: ``(S, B, N+1, n)`` → ``(S, B, N, n)`` (one
+        batched product per group of steps with the same stencil)."""
+        S_, B = Fin.shape[:2]
+        out = np.empty((S_, B, self.N, self.n))
+        for rows in self.groups:
+            Fg = Fin[:, :, self.idx[rows], :].reshape(S_, B * rows.size, -1)
+            out[:, :, rows] = np.matmul(Fg, self.WT[:, int(rows[0])]).reshape(S_, B, rows.size, self.n)
+        return out
+
+    def step_block(self, window: np.ndarray, forcing: np.ndarray) -> np.ndarray:
+        raise NotImplementedError("step_block: one plant at a time (BlockIntegrator)")
+
+    def quadrature(self, F: np.ndarray) -> np.ndarray:
+        raise NotImplementedError("quadrature: per plant (self.parts[s].quadrature)")
+
+    def run(
+        self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress, end_fix: np.ndarray | None = None
+    ) -> None:
+        """:meth:`BlockIntegrator.run` with one plant per trajectory: ``X``, ``fin`` and ``end_fix``
+        have the leading axis S (one row per plant)."""
+        if X.ndim != 3 or X.shape[0] != len(self.parts):
+            raise ValueError(f"X: expected ({len(self.parts)}, rows, n), one trajectory per plant; got {X.shape}")
+        if self.method == "scan":
+            return self._run_scan(X, fin, nblocks, progress, end_fix)
+        if self.method != "chunked":
+            return super().run(X, fin, nblocks, progress, end_fix=end_fix)
+        for s_, part in enumerate(self.parts):  # large N: per plant (as a batch of one plant does)
+            part.run(X[s_], fin[s_], nblocks, progress, end_fix=None if end_fix is None else end_fix[s_])
+        return None
+
+    def _run_scan(self, Xb: np.ndarray, fb: np.ndarray, nblocks: int, progress: Progress,
+                  end_fix: np.ndarray | None) -> None:
+        """Per block: the forcing of its N steps for every plant at once (delayed part from the
+        window, input part from the quadrature of all blocks), then the N steps
+        ``x_{r+1} = Φ_s x_r + g_r`` in chunks of m: the chunks' solutions from zero in one
+        product, the chunk starts ``x_{c m}`` in sequence (one batched product over the plants
+        per chunk), the states from the starts in one product (as a LinearScan per plant)."""
+        N, n, K = self.N, self.n, self.K
+        S_ = Xb.shape[0]
+        jb = np.arange(nblocks)[:, None] * N + np.arange(N + 1)[None, :]
+        Fin = fb[:, jb]  # (S, nblocks, N+1, n)
+        if end_fix is not None:
+            Fin[:, :, N, :] += end_fix
+        Gin = np.ascontiguousarray(self._quadrature_batch(Fin).transpose(1, 2, 0, 3))  # (nblocks, N, S, n)
+        m, TmT, PT, PmT = self.m_scan, self.TmT, self.PT, self.PmT
+        C = N // m
+        KN, step = K * N, max(1, nblocks // 100)
+        for k in range(nblocks):
+            a = k * N
+            G = Gin[k]
+            if K:
+                G = G.copy()
+                for g, rows in enumerate(self.groups):
+                    Xg = Xb[:, a + self.gidx[rows]].reshape(S_, rows.size, -1)
+                    G[rows] += np.matmul(Xg, self.WA[:, g]).transpose(1, 0, 2)
+            # chunks of m steps: the local solutions from zero at once, the chunk starts in sequence
+            Yp = np.matmul(G.transpose(1, 0, 2).reshape(S_, C, m * n), TmT)  # (S, C, m n)
+            starts = np.empty((S_, C, n))
+            x = Xb[:, a + KN, None, :]  # (S, 1, n)
+            for c in range(C):
+                starts[:, c] = x[:, 0]
+                x = np.matmul(x, PmT)
+                x += Yp[:, c, None, (m - 1) * n :]
+            Yp += np.matmul(starts, PT)
+            Xb[:, a + KN + 1 : a + KN + 1 + N] = Yp.reshape(S_, N, n)
+            if k % step == 0:
+                progress.update(k)

@@ -59,7 +59,8 @@ def _grid_h(model: Any, sys: Any, h: Any, dt: float) -> float:
 
 
 def _check_sizes(model: Any, sys: Any) -> None:
-    n_x, n_y, n_u = sys.A.shape[0], sys.C.shape[0], getattr(sys, "n_u", 0)
+    S = SystemArrays.from_system(sys)  # a DelaySystem, or coefficient stacks (e.g. perturbed_plant)
+    n_x, n_y, n_u = S.n_x, S.n_y, S.n_u
     if (model.n_x, model.n_y) != (n_x, n_y):
         raise DimensionError(
             f"the design is for {model.n_x} states and {model.n_y} outputs; the plant has {n_x} and {n_y}"

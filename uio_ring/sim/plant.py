@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -18,7 +19,7 @@ from uio_ring.sim.errors import SimulationError
 from uio_ring.sim.result import SimulationResult
 from uio_ring.sim.signals import as_noise, input_samples
 
-__all__ = ["simulate", "resolve_h", "SystemArrays"]
+__all__ = ["simulate", "resolve_h", "SystemArrays", "perturbed_plant"]
 
 
 @dataclass(frozen=True)
@@ -61,7 +62,29 @@ class SystemArrays:
 
     @staticmethod
     def deg(M: np.ndarray) -> int:
-        return M.shape[0] - 1
+        """Delay degree of a coefficient stack (the same for a stack per plant, ``(K, deg + 1, ·, ·)``)."""
+        return M.shape[-3] - 1
+
+    @classmethod
+    def stack(cls, plants: list[SystemArrays]) -> SystemArrays:
+        """One plant per scenario: every matrix ``(K, deg + 1, rows, cols)``.  The plants must
+        have the same sizes and the same delay degree of each matrix (else SimulationError).
+
+        >>> one = SystemArrays.from_system(type("P", (), {"A": [[[-1.0]]], "C": [[[1.0]]]}))
+        >>> SystemArrays.stack([one, one]).A.shape
+        (2, 1, 1, 1)
+        """
+        ref = plants[0]
+        for k, p in enumerate(plants):
+            for name in "ABCDEF":
+                got, want = getattr(p, name).shape, getattr(ref, name).shape
+                if got != want:
+                    raise SimulationError(
+                        f"plant {k}: sys.{name} has {got[0]} delay coefficients of size {got[1]}×{got[2]}; "
+                        f"every plant of a batch needs the sizes and delays of the first "
+                        f"({want[0]} coefficients of {want[1]}×{want[2]})")
+        A, B, C, D, E, F = (np.stack([getattr(p, name) for p in plants]) for name in "ABCDEF")
+        return cls(A, B, C, D, E, F, ref.n_x, ref.n_w, ref.n_u, ref.n_y)
 
     @property
     def state_delay(self) -> int:
@@ -71,6 +94,31 @@ class SystemArrays:
     @property
     def input_delay(self) -> int:
         return max(self.deg(self.B), self.deg(self.D), self.deg(self.E), self.deg(self.F), 0)
+
+
+def perturbed_plant(system: Any, eps: float, seed: int) -> Any:
+    """``system`` with every coefficient matrix ``M ∘ (1 + ε R)``, ``R`` uniform in [−1, 1]
+    (seeded by ``seed``; zeros stay zero): a plant for :func:`simulate`,
+    :func:`~uio_ring.sim.engine.simulate_observer` and ``Scenario(plant=…)`` of
+    :func:`~uio_ring.sim.batch.simulate_batch` (same sizes, delay degrees and h).
+    ``eps = 0`` returns ``system`` itself.
+
+    >>> from uio_ring import DelaySystem
+    >>> sys = DelaySystem("[[-1, d], [0, -2]]", "[[1], [0]]", "[[1, 0]]", None, h="1/10")
+    >>> p = perturbed_plant(sys, 0.1, seed=3)
+    >>> p.A.shape, bool(p.A[1, 1, 0] == 0), bool(abs(p.A[0, 0, 0] + 1) <= 0.1), p.h == sys.h
+    ((2, 2, 2), True, True, True)
+    """
+    if eps == 0:
+        return system
+    S = SystemArrays.from_system(system)
+    rng = np.random.default_rng([seed, 7919])
+    mats = {name: getattr(S, name) * (1.0 + eps * rng.uniform(-1.0, 1.0, size=getattr(S, name).shape))
+            for name in "ABCDEF"}
+    return SimpleNamespace(**mats, h=system.h, is_delay_free=system.is_delay_free,
+                           state_names=system.state_names, output_names=system.output_names,
+                           unknown_input_names=system.unknown_input_names,
+                           known_input_names=system.known_input_names)
 
 
 def resolve_h(h: Any, sys_h: Any, *, what: str = "the system") -> float:

@@ -1,8 +1,10 @@
 """Running a sweep: chunks as tasks (local processes or dask.distributed), one file per chunk.
 
-Each chunk (runs that share the plant and the design) is one task: it designs the
-observer once, builds one :class:`~uio_ring.sim.batch.Scenario` per run and calls
-:func:`~uio_ring.sim.batch.simulate_batch` once.  Its rows are written to
+Each chunk (runs that share the design and the plant's true delay) is one task: it
+designs the observer once, builds one :class:`~uio_ring.sim.batch.Scenario` per run
+(with the run's perturbed plant, if any) and calls
+:func:`~uio_ring.sim.batch.simulate_batch` once: runs on differently perturbed plants
+are integrated together (one plant per scenario).  Its rows are written to
 ``<out>/chunks/<chunk file>`` as soon as it is done; a rerun of the same sweep
 skips the chunks whose file exists (the file name carries a hash of everything that
 changes the numbers).  A run that cannot be built, or a chunk whose design fails,
@@ -18,12 +20,12 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
 from uio_ring.errors import SpecError, require
+from uio_ring.sim.plant import perturbed_plant
 from uio_ring.sweeps.spec import Chunk, Run, SweepSpec, load_sweep
 
 __all__ = ["sweep", "SweepResult", "run_chunk"]
@@ -66,24 +68,6 @@ def _noise_gain(design: Any, h: Any) -> float:
         return float("nan")
 
 
-def _plant(system: Any, eps: float, seed: int) -> Any:
-    """The plant with every matrix ``M ∘ (1 + ε R)``, ``R`` uniform in [−1, 1] (seeded)."""
-    from uio_ring.sim.plant import SystemArrays
-
-    if eps == 0:
-        return system
-    S = SystemArrays.from_system(system)
-    rng = np.random.default_rng([seed, 7919])
-    mats = {}
-    for name in "ABCDEF":
-        M = getattr(S, name)
-        mats[name] = M * (1.0 + eps * rng.uniform(-1.0, 1.0, size=M.shape))
-    return SimpleNamespace(**mats, h=system.h, is_delay_free=system.is_delay_free,
-                           state_names=system.state_names, output_names=system.output_names,
-                           unknown_input_names=system.unknown_input_names,
-                           known_input_names=system.known_input_names)
-
-
 def _w_signal(spec: Any, p: dict[str, Any], seed: int, n_w: int, t_final: float) -> Any:
     fam = p.get("w_family", "base")
     a = float(p.get("w_amplitude", 1.0))
@@ -108,7 +92,7 @@ def _w_signal(spec: Any, p: dict[str, Any], seed: int, n_w: int, t_final: float)
     return pwc
 
 
-def _scenario(spec: Any, run: Run, n_x: int, n_w: int) -> Any:
+def _scenario(spec: Any, run: Run, n_x: int, n_w: int, plant: Any = None) -> Any:
     from uio_ring.sim.batch import Scenario
     from uio_ring.sim.signals import UniformNoise
 
@@ -127,7 +111,7 @@ def _scenario(spec: Any, run: Run, n_x: int, n_w: int) -> Any:
     noise = None if amp is None else UniformNoise(amp, seed=seed)
     x_hat0 = None if sim.x_hat0 is None else [float(v) for v in sim.x_hat0]
     return Scenario(x0=x0, w=_w_signal(spec, p, run.seed, n_w, float(sim.t_final)), u=sim.signal("u"),
-                    noise=noise, x_hat0=x_hat0)
+                    noise=noise, x_hat0=x_hat0, plant=plant)
 
 
 def _row(run: Run, chunk: int, axes: Sequence[str], metrics: dict[str, float], gain: float, error: str) -> dict:
@@ -162,7 +146,6 @@ def run_chunk(task: dict[str, Any]) -> list[dict[str, Any]]:
             h = None if spec.system.h is None else float(sim.h)
             _DESIGNS[key] = (spec, design, _noise_gain(design, h))
         spec, design, gain = _DESIGNS[key]
-        plant = _plant(spec.system, float(p0.get("perturbation", 0.0)), int(p0.get("perturbation_seed", 0)))
     except Exception as exc:  # noqa: BLE001 - a failing design is a row per run, not a lost chunk
         msg = f"{type(exc).__name__}: {exc}"
         return [_row(r, chunk.index, axes, {}, np.nan, msg) for r in runs]
@@ -171,14 +154,16 @@ def run_chunk(task: dict[str, Any]) -> list[dict[str, Any]]:
     good, scen = [], []
     for r in runs:
         try:
-            scen.append(_scenario(spec, r, spec.system.n_x, spec.system.n_w))
+            plant = perturbed_plant(spec.system, float(r.params.get("perturbation", 0.0)),
+                           int(r.params.get("perturbation_seed", 0)))
+            scen.append(_scenario(spec, r, spec.system.n_x, spec.system.n_w, plant))
             good.append(r)
         except Exception as exc:  # noqa: BLE001
             rows[r.run] = _row(r, chunk.index, axes, {}, gain, f"{type(exc).__name__}: {exc}")
     if good:
         try:
             h_true = p0.get("h_true")
-            res = simulate_batch(design, scen, plant=plant, plant_h=h_true, t_final=float(sim.t_final),
+            res = simulate_batch(design, scen, plant=spec.system, plant_h=h_true, t_final=float(sim.t_final),
                                  dt=float(sim.dt), tol=task["tol"], diverge=task["diverge"],
                                  settle=None if sim.settle is None else float(sim.settle),
                                  discretisation=p0.get("discretisation", sim.discretisation))
