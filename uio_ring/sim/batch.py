@@ -650,16 +650,9 @@ def _plant_arrays(sys: Any, scen: Sequence[Scenario]) -> SystemArrays:
         if not _same_h(getattr(p, "h", None), getattr(sys, "h", None)):
             raise SimulationError(f"scenario {k}: the plant's h = {getattr(p, 'h', None)} differs from the h = "
                                   f"{getattr(sys, 'h', None)} of the batch's plant (one grid per batch)")
-        Sk = S if p is sys else SystemArrays.from_system(p)
-        for name in "ABCDEF":
-            got, want = getattr(Sk, name).shape, getattr(S, name).shape
-            if got != want:
-                raise DimensionError(
-                    f"scenario {k}: the plant's {name} has {got[0]} delay coefficients of size {got[1]}×{got[2]}; "
-                    f"the batch's plant (the design's system unless plant= is given) has {want[0]} of "
-                    f"{want[1]}×{want[2]}: every plant of a batch needs the same sizes and delays")
-        arrays.append(Sk)
-    return SystemArrays.stack(arrays)
+        arrays.append(S if p is sys else SystemArrays.from_system(p))
+    return SystemArrays.stack(arrays, label="scenario",
+                              reference="the batch's plant (the design's system unless plant= is given)", ref=S)
 
 
 def simulate_batch(

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from uio_ring.errors import DimensionError
 from uio_ring.numeric.convert import coefficient_arrays
 from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
 from uio_ring.numeric.history import sample_history
@@ -66,23 +67,25 @@ class SystemArrays:
         return M.shape[-3] - 1
 
     @classmethod
-    def stack(cls, plants: list[SystemArrays]) -> SystemArrays:
+    def stack(cls, plants: list[SystemArrays], *, label: str = "plant", reference: str = "the first plant",
+              ref: SystemArrays | None = None) -> SystemArrays:
         """One plant per scenario: every matrix ``(K, deg + 1, rows, cols)``.  The plants must
-        have the same sizes and the same delay degree of each matrix (else SimulationError).
+        have the same sizes and the same delay degree of each matrix as ``ref`` (default the first;
+        else DimensionError naming ``label`` k and ``reference``).
 
         >>> one = SystemArrays.from_system(type("P", (), {"A": [[[-1.0]]], "C": [[[1.0]]]}))
         >>> SystemArrays.stack([one, one]).A.shape
         (2, 1, 1, 1)
         """
-        ref = plants[0]
+        ref = plants[0] if ref is None else ref
         for k, p in enumerate(plants):
             for name in "ABCDEF":
                 got, want = getattr(p, name).shape, getattr(ref, name).shape
                 if got != want:
-                    raise SimulationError(
-                        f"plant {k}: sys.{name} has {got[0]} delay coefficients of size {got[1]}×{got[2]}; "
-                        f"every plant of a batch needs the sizes and delays of the first "
-                        f"({want[0]} coefficients of {want[1]}×{want[2]})")
+                    raise DimensionError(
+                        f"{label} {k}: the plant's {name} has {got[0]} delay coefficients of size {got[1]}×{got[2]}; "
+                        f"{reference} has {want[0]} of {want[1]}×{want[2]}: every plant of a batch needs the same "
+                        "sizes and delays")
         A, B, C, D, E, F = (np.stack([getattr(p, name) for p in plants]) for name in "ABCDEF")
         return cls(A, B, C, D, E, F, ref.n_x, ref.n_w, ref.n_u, ref.n_y)
 
