@@ -286,9 +286,9 @@ class _Injection:
                 at, gather, RKl, st, st1, rows = table
                 a = blist[at] if gather is None else [blist[i] for i in gather]
                 if RKl is not None:
-                    a = [x + y for x, y in zip(a, (RKl @ lvec).tolist())]
+                    a = [x + y for x, y in zip(a, (RKl @ lvec).tolist(), strict=True)]
                 tops, sgs = [], []
-                for aj, (c1j, c1sqj, s0j, khj, ksj) in zip(a, rows):
+                for aj, (c1j, c1sqj, s0j, khj, ksj) in zip(a, rows, strict=True):
                     mag = abs(aj)
                     if mag > s0j:
                         tops.append(khj * math.copysign(math.sqrt(c1sqj + 4.0 * (mag - s0j)) - c1j, aj))
