@@ -227,10 +227,11 @@ class _Injection:
             return None
         st = np.array([self.starts[j] for j in idx])
         at = _as_index(idx)
+        both = np.stack([st, st + 1], axis=1).reshape(-1)  # [top, sign] of each chain, in order
         rows = tuple((float(self.coef[j][0]), float(self.coef[j][0]) * float(self.coef[j][0]), float(self.s0[j]),
                       float(0.5 * self.kap[j][0]), float(self.kap[j][1])) for j in idx.tolist())
         return (at if isinstance(at, slice) else slice(None), None if isinstance(at, slice) else at.tolist(),
-                None if first else self.RK[idx], _as_index(st), _as_index(st + 1), rows)
+                None if first else self.RK[idx], _as_index(both), rows)
 
     def measured(self, y: np.ndarray, u: np.ndarray) -> np.ndarray:
         out = self.Sy @ y
@@ -283,21 +284,19 @@ class _Injection:
                 # chains of length 2 (super-twisting), closed form: s = |σ|^½ solves s² + c1 s = |a| − s0
                 # (σ = 0 while |a| ≤ s0: sliding, the sign term's value is a/s0).  Scalar floats: for the
                 # few chains of a layer, cheaper per step than array calls (the same IEEE operations)
-                at, gather, RKl, st, st1, rows = table
+                at, gather, RKl, both, rows = table
                 a = blist[at] if gather is None else [blist[i] for i in gather]
                 if RKl is not None:
                     a = [x + y for x, y in zip(a, (RKl @ lvec).tolist(), strict=True)]
-                tops, sgs = [], []
+                vals: list[float] = []
                 for aj, (c1j, c1sqj, s0j, khj, ksj) in zip(a, rows, strict=True):
                     mag = abs(aj)
                     if mag > s0j:
-                        tops.append(khj * math.copysign(math.sqrt(c1sqj + 4.0 * (mag - s0j)) - c1j, aj))
-                        sgs.append(ksj * (aj / mag))
+                        vals += (khj * math.copysign(math.sqrt(c1sqj + 4.0 * (mag - s0j)) - c1j, aj),
+                                 ksj * (aj / mag))
                     else:  # sliding: σ = 0, the sign term takes the value a/s0 ∈ [−1, 1]
-                        tops.append(0.0)
-                        sgs.append(ksj * (aj / s0j))
-                lvec[st] = tops
-                lvec[st1] = sgs
+                        vals += (0.0, ksj * (aj / s0j))
+                lvec[both] = vals
             for j in others:
                 self._solve_one(j, float(base[j] + self.RK[j] @ lvec), lvec)
 
