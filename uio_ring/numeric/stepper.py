@@ -215,19 +215,23 @@ class _Injection:
             pairs = np.array(closed, dtype=int)
             layers.append((pairs, [j for j in group if j not in closed]))
         self._pair_tables = [self._pair_table(pairs, first=i == 0) for i, (pairs, _) in enumerate(layers)]
+        self._plan = [(table, others) for table, (_, others) in zip(self._pair_tables, layers, strict=True)]
         return layers
 
     def _pair_table(self, idx: np.ndarray, first: bool) -> tuple[Any, ...] | None:
-        """Per-step constants of one layer's super-twisting chains: where their σ and their
-        two injected terms sit (slices when evenly spaced: no gather) and their coefficients.
-        ``first``: no chain before the layer, so its σ needs no ``RK lvec`` term."""
+        """Per-step constants of one layer's super-twisting chains: where their σ sits in the
+        list of σ values (a slice), the rows ``RK`` that add the earlier layers' terms (None
+        for the first layer), where their two injected terms sit (slices when evenly spaced:
+        no gather), and per chain the tuple ``(c1, c1², s0, κ_1/2, κ_2)``."""
         if not len(idx):
             return None
         st = np.array([self.starts[j] for j in idx])
-        c1 = np.array([self.coef[j][0] for j in idx])
-        return (_as_index(idx), None if first else self.RK[idx], c1.tolist(), (c1 * c1).tolist(),
-                [self.s0[j] for j in idx], _as_index(st), _as_index(st + 1),
-                (0.5 * np.array([self.kap[j][0] for j in idx])).tolist(), [self.kap[j][1] for j in idx])
+        at = _as_index(idx)
+        both = np.stack([st, st + 1], axis=1).reshape(-1)  # [top, sign] of each chain, in order
+        rows = tuple((float(self.coef[j][0]), float(self.coef[j][0]) * float(self.coef[j][0]), float(self.s0[j]),
+                      float(0.5 * self.kap[j][0]), float(self.kap[j][1])) for j in idx.tolist())
+        return (at if isinstance(at, slice) else slice(None), None if isinstance(at, slice) else at.tolist(),
+                None if first else self.RK[idx], _as_index(both), rows)
 
     def measured(self, y: np.ndarray, u: np.ndarray) -> np.ndarray:
         out = self.Sy @ y
@@ -252,28 +256,49 @@ class _Injection:
         """``lin + Kl l(σ_{k+1})`` with σ_{k+1} solved layer by layer (block triangular); in a
         layer, the chains of length 2 (super-twisting) by their closed form at once."""
         lvec = np.zeros(self.n)
-        base = meas_next + self.R @ lin  # σ with no injection at all
-        for (_, others), table in zip(self.layers, self._pair_tables, strict=True):
+        self._solve_layers(meas_next + self.R @ lin, lvec)  # σ with no injection at all, then the terms
+        return lin + self.Kl @ lvec
+
+    def implicit_run(self, Phi: np.ndarray, Fq: np.ndarray, Meas: np.ndarray, Xi: np.ndarray, k0: int,
+                     k1: int) -> None:
+        """Rows ``k0 … k1−1`` of ``Xi`` from row ``k0 − 1``: the steps of :meth:`implicit` with
+        ``lin = Phi ξ + Fq[k−1]`` and ``meas_next = Meas[k]`` — the same floating-point
+        operations in the same order (so the same numbers), without per-step allocations of
+        ``lin`` and ``ξ``."""
+        R, Kl, n, solve = self.R, self.Kl, self.n, self._solve_layers
+        lin = np.empty(n)
+        xi = Xi[k0 - 1]
+        for k in range(k0, k1):
+            np.matmul(Phi, xi, out=lin)
+            np.add(lin, Fq[k - 1], out=lin)
+            lvec = np.zeros(n)
+            solve(Meas[k] + R @ lin, lvec)
+            xi = Xi[k]
+            np.add(lin, Kl @ lvec, out=xi)
+
+    def _solve_layers(self, base: np.ndarray, lvec: np.ndarray) -> None:
+        """The injected terms ``lvec`` (zero on entry) from σ without injection, ``base``."""
+        blist = base.tolist()
+        for table, others in self._plan:
             if table is not None:
                 # chains of length 2 (super-twisting), closed form: s = |σ|^½ solves s² + c1 s = |a| − s0
                 # (σ = 0 while |a| ≤ s0: sliding, the sign term's value is a/s0).  Scalar floats: for the
-                # few chains of a layer, cheaper per step than array calls (same numbers)
-                at, RKl, c1, c1sq, s0, st, st1, k_half, k_sign = table
-                a = base[at] if RKl is None else base[at] + RKl @ lvec
-                tops, sgs = [], []
-                for aj, c1j, c1sqj, s0j, khj, ksj in zip(a.tolist(), c1, c1sq, s0, k_half, k_sign, strict=True):
+                # few chains of a layer, cheaper per step than array calls (the same IEEE operations)
+                at, gather, RKl, both, rows = table
+                a = blist[at] if gather is None else [blist[i] for i in gather]
+                if RKl is not None:
+                    a = [x + y for x, y in zip(a, (RKl @ lvec).tolist(), strict=True)]
+                vals: list[float] = []
+                for aj, (c1j, c1sqj, s0j, khj, ksj) in zip(a, rows, strict=True):
                     mag = abs(aj)
                     if mag > s0j:
-                        tops.append(khj * math.copysign(math.sqrt(c1sqj + 4.0 * (mag - s0j)) - c1j, aj))
-                        sgs.append(ksj * (aj / mag))
+                        vals += (khj * math.copysign(math.sqrt(c1sqj + 4.0 * (mag - s0j)) - c1j, aj),
+                                 ksj * (aj / mag))
                     else:  # sliding: σ = 0, the sign term takes the value a/s0 ∈ [−1, 1]
-                        tops.append(0.0)
-                        sgs.append(ksj * (aj / s0j))
-                lvec[st] = tops
-                lvec[st1] = sgs
+                        vals += (0.0, ksj * (aj / s0j))
+                lvec[both] = vals
             for j in others:
                 self._solve_one(j, float(base[j] + self.RK[j] @ lvec), lvec)
-        return lin + self.Kl @ lvec
 
     def _solve_one(self, j: int, a: float, lvec: np.ndarray) -> None:
         s, m = self.starts[j], self.mu[j]
@@ -632,10 +657,15 @@ class ObserverStepper:
         Xi[0] = xi
         Phi, Kl, F, dt, method = self.Phi, self.Kl, self.model.F, self.dt, inj.method
         Fq = self._forcing_table(G, T) if T > 1 else np.zeros((0, self.n_z))
+        if method == "implicit":
+            for k0 in range(1, T, 1024):  # chunks: the checkpoint every 1024 steps
+                k1 = min(k0 + 1024, T)
+                inj.implicit_run(Phi, Fq, Meas, Xi, k0, k1)
+                if (k1 - 1) % 1024 == 0:
+                    self._checkpoint(k1 - 1, Xi[k1 - 1], progress)
+            return self._outputs(Xi + D, Xi, T)
         for k in range(1, T):
-            if method == "implicit":
-                xi = inj.implicit(Phi @ xi + Fq[k - 1], Meas[k])
-            elif method == "explicit":
+            if method == "explicit":
                 xi = Phi @ xi + Fq[k - 1] + Kl @ inj.l_of(inj.sigma(Meas[k - 1], xi))
             else:  # euler
                 xi = xi + dt * (F @ xi + G[k + 1] + inj.l_of(inj.sigma(Meas[k - 1], xi)))
