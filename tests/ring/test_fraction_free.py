@@ -110,6 +110,59 @@ def test_extend_row_basis_keeps_the_module(B0, X):
     assert all(ext.rows[i, :].degree() <= X.degree() for i in range(ext.rows.rows))
 
 
+def _reduce_rationally(x: list[flint.fmpq_poly], lead: dict[int, list[flint.fmpq_poly]]) -> list[flint.fmpq_poly]:
+    """Oracle: the plain one-term reduction over Q, then the primitive integer row
+    ([] for zero) — what ``row_basis._reduce_row`` computes fraction-free."""
+    from uio_ring.ring import _dense as dn
+
+    while True:
+        d, j = dn.leading_position(x)
+        if j < 0:
+            return []
+        b = lead.get(j)
+        if b is None or b[j].degree() > d:
+            break
+        q = bk.monomial(bk.lc(x[j]) / bk.lc(b[j]), d - b[j].degree())
+        x = [xi - q * bi for xi, bi in zip(x, b, strict=True)]
+    z, _ = bk.integer_row(x)
+    content = flint.fmpz(0)
+    for p in z:
+        content = content.gcd(p.content()) if not p.is_zero() else content
+    return [bk.from_integer(p) / content for p in z]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    dense_matrices(min_rows=1, max_rows=3, cols=3),
+    dense_matrices(min_rows=1, max_rows=3, cols=3),
+    dense_matrices(min_rows=1, max_rows=2, cols=3),
+    st.sampled_from([1, 3, 1000]),
+)
+def test_fraction_free_reduction_equals_the_rational_one(B0, X, Y, every):
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring import row_basis as rb
+
+    rows = dn.copy(B0._r)
+    dn.weak_popov(rows)
+    rows = [r for r in rows if any(not p.is_zero() for p in r)]
+    lead_q = {dn.leading_position(r)[1]: r for r in rows}
+    lead_z = {j: bk.integer_row(r)[0] for j, r in lead_q.items()}
+    inside: list[list[flint.fmpq_poly]] = []
+    shifted: list[list[flint.fmpq_poly]] = []
+    if rows:
+        B = PolyMatrix._new(rows, len(rows), 3, "d")
+        C = PolyMatrix([[f"{i + j + 1}*d**{2 + i}" for j in range(len(rows))] for i in range(Y.rows)])
+        inside = [list(r) for r in (C @ B)._r]  # in the module: must reduce to zero
+        shifted = [list(r) for r in (Y + C @ B)._r]  # long reductions with large multipliers
+    old, rb._CONTENT_EVERY = rb._CONTENT_EVERY, every
+    try:
+        for x in [list(r) for r in X._r] + inside + shifted:
+            assert rb._reduce_row(list(x), lead_z) == _reduce_rationally(list(x), lead_q)
+        assert all(rb._reduce_row(list(x), lead_z) == [] for x in inside)
+    finally:
+        rb._CONTENT_EVERY = old
+
+
 def test_extend_row_basis_refuses_bad_input():
     from uio_ring.ring.errors import DimensionError
 

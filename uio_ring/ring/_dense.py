@@ -96,7 +96,7 @@ def mat_degree(a: Rows) -> int:
     return max((row_degree(r) for r in a), default=-1)
 
 
-def leading_position(row: Sequence[flint.fmpq_poly]) -> tuple[int, int]:
+def leading_position(row: Sequence[flint.fmpq_poly | flint.fmpz_poly]) -> tuple[int, int]:
     """``(degree, position)``: the row degree and the rightmost column attaining it
     (``(-1, -1)`` for a zero row). Row-wise convention, zero shift."""
     best_d, best_j = -1, -1
