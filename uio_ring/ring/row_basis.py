@@ -68,6 +68,8 @@ def _content(row: list[flint.fmpz_poly]) -> flint.fmpz:
     for p in row:
         if not p.is_zero():
             content = content.gcd(p.content())
+            if content == 1:
+                break
     return content
 
 
