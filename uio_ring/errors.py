@@ -6,7 +6,7 @@ assumption failed; ``SpecError`` carries the path inside a spec file.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, TypeVar
 
 from uio_ring.ring.errors import (
     DimensionError,
@@ -30,10 +30,14 @@ __all__ = [
     "NotObservableError",
     "SpecError",
     "OptionError",
+    "for_option",
     "SimulationError",
     "NotSupportedError",
     "require",
 ]
+
+
+E = TypeVar("E", bound=BaseException)
 
 
 class NotObservableError(UioRingError, ValueError):
@@ -63,6 +67,19 @@ class OptionError(DomainError):
     def __init__(self, message: str, *, option: str):
         super().__init__(message)
         self.option = option
+
+
+def for_option(exc: E, option: str) -> E:
+    """``exc`` (any of the package's errors) marked as caused by design option ``option``, so that a
+    spec reports it at ``design.<option>`` — for errors whose class says what is wrong (a
+    ``DimensionError`` for a wrong count) while the option says where.
+
+    >>> err = for_option(DimensionError("poles has 1 value"), "poles")
+    >>> type(err).__name__, err.option
+    ('DimensionError', 'poles')
+    """
+    exc.option = option  # type: ignore[attr-defined]
+    return exc
 
 
 class SimulationError(UioRingError, ValueError):

@@ -187,3 +187,24 @@ def test_sqrt_up_is_an_upper_bound_within_1e_9(x):
 
     s = sqrt_up(x)
     assert s * s >= x and float(s) - math.sqrt(x) < 1e-8 * max(1.0, math.sqrt(x))
+
+
+@pytest.mark.parametrize(("options", "path"), [
+    ("  w_bound: 1\n  e_bound: 1\n  theta: 2\n", "design.theta"),
+    ("  w_bound: 1\n", "design.e_bound"),
+    ("  K: [[1, 0, 0]]\n", "design.K"),
+    ("  gains: [[15, 10]]\n", "design.gains"),
+])
+def test_cli_names_the_option_that_does_not_fit(tmp_path, capsys, options, path):
+    """Exit 2, one line, at the option's spec path (not only ``design``)."""
+    from pathlib import Path
+
+    from uio_ring.cli import main
+
+    text = (Path(__file__).resolve().parents[2] / "examples" / "bejarano2007_example1.yaml").read_text(encoding="utf-8")
+    head = text[: text.index("design:")]
+    spec = tmp_path / "s.yaml"
+    spec.write_text(head + "design:\n  method: hierarchical-sta\n" + options, encoding="utf-8")
+    code = main(["design", str(spec), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and path in err, err

@@ -221,3 +221,26 @@ def test_zheng_bejarano_at_delta_0_is_table1_last_column(sysm):
     rep = observer_options(sysm)
     both = check_assumptions(sysm).holds
     assert both == (rep.strongly_observable and rep.strong_star_detectable)
+
+
+@pytest.mark.parametrize(("options", "path", "match"), [
+    ("  poles_b: [-1]\n  input_bounds: 1\n", "design.poles_b", "poles_b has 1"),
+    ("  input_ranges: [[1, 0], [0, 1]]\n", "design.input_ranges", "lo ≤ hi"),
+    ("  input_bounds: [1]\n", "design.input_bounds", "input_bounds has 1 entries"),
+    ("  d_observer: linear\n", "design.d_observer", "needs every chain of length 1"),
+    ("  input_bounds: 1\n  gains: [[1, 1, 0.5], [1, 0.5]]\n", "design.gains", "Theorem 2"),
+    ("", "design.input_bounds", "needs input_bounds or input_ranges"),
+])
+def test_cli_names_the_option_that_does_not_fit(tmp_path, capsys, options, path, match):
+    """A design option that does not fit the system: exit 2, one line, the option's spec path."""
+    from uio_ring.cli import main
+
+    spec = tmp_path / "s.yaml"
+    text = (Path(__file__).resolve().parents[2] / "examples" / "tranninger2021.yaml").read_text(encoding="utf-8")
+    head = text[: text.index("design:")]
+    spec.write_text(head + "design:\n  method: scb\n" + options, encoding="utf-8")
+    code = main(["design", str(spec), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert len(err.strip().splitlines()) == 1 and path in err and match in err, err
+    assert not (tmp_path / "out").exists()

@@ -36,7 +36,7 @@ from typing import Any, ClassVar
 from uio_ring.analysis.molinari import MolinariSequence, molinari_sequence
 from uio_ring.analysis.strong_observability import is_hurwitz_polynomial
 from uio_ring.design.base import ObserverDesign, matrix_to_data
-from uio_ring.errors import DimensionError, DomainError, NotObservableError
+from uio_ring.errors import DimensionError, DomainError, NotObservableError, for_option
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.charpoly import charpoly
 from uio_ring.ring.inverse import left_inverse
@@ -262,12 +262,13 @@ def _gain_pairs(gains: Any, levels: int, *, default: tuple[Fraction, Fraction] =
         return tuple(default for _ in range(levels))
     rows = list(gains)
     if len(rows) != levels:
-        raise DimensionError(f"{name} has {len(rows)} level(s); the observer has {levels} (l − 1)")
+        raise for_option(DimensionError(f"{name} has {len(rows)} level(s); the observer has {levels} (l − 1)"), name)
     out = []
     for k, g in enumerate(rows):
         pair = tuple(exact_fraction(x, f"{name}[{k}][{i}]") for i, x in enumerate(g))
         if len(pair) != 2 or not all(x > 0 for x in pair):
-            raise DomainError(f"{name}[{k}] = [{', '.join(str(x) for x in g)}]: expected two positive values [λ, α]")
+            raise for_option(DomainError(f"{name}[{k}] = [{', '.join(str(x) for x in g)}]: expected two positive values "
+                                         "[λ, α]"), name)
         out.append((pair[0], pair[1]))
     return tuple(out)
 
@@ -277,7 +278,7 @@ def exact_gain_matrix(K: Any, shape: tuple[int, int], name: str = "K") -> PolyMa
     Km = K if isinstance(K, PolyMatrix) else PolyMatrix([[str(x) if not isinstance(x, str) else x for x in r]
                                                           for r in K])
     if Km.shape != shape:
-        raise DimensionError(f"{name} is {Km.rows}×{Km.cols}; expected {shape[0]}×{shape[1]}")
+        raise for_option(DimensionError(f"{name} is {Km.rows}×{Km.cols}; expected {shape[0]}×{shape[1]}"), name)
     return Km
 
 
@@ -361,7 +362,7 @@ def design_hierarchical_sta(
         vals = [exact_fraction(x, f"poles[{i}]") for i, x in enumerate(poles)] if poles is not None else \
             [Fraction(-(i + 1)) for i in range(n)]
         if len(vals) != n:
-            raise DimensionError(f"poles has {len(vals)} value(s); expected n_x = {n}")
+            raise for_option(DimensionError(f"poles has {len(vals)} value(s); expected n_x = {n}"), "poles")
         Km = _ackermann(A, C, vals)
     l = seq.l or 0
     M_l = seq.M[-1]
@@ -375,7 +376,7 @@ def design_hierarchical_sta(
     )
     if w_bound is None:
         if e_bound is not None or theta is not None:
-            raise DomainError("e_bound and theta go with w_bound (the gain condition (16)/(21))")
+            raise for_option(DomainError("e_bound and theta go with w_bound (the gain condition (16)/(21))"), "w_bound")
         return des
     from uio_ring.design.sta_gains import gains_from_bounds, sta_gain_condition
 

@@ -38,7 +38,7 @@ from uio_ring.analysis.matched_reduction import MatchedReduction, left_pinv, mat
 from uio_ring.analysis.strong_observability import is_hurwitz_polynomial
 from uio_ring.design.base import ObserverDesign, matrix_to_data
 from uio_ring.design.hierarchical_sta import _ackermann, _gain_pairs, exact_gain_matrix
-from uio_ring.errors import DimensionError, DomainError, NotObservableError
+from uio_ring.errors import DimensionError, DomainError, NotObservableError, for_option
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.charpoly import charpoly
 from uio_ring.ring.matrix import PolyMatrix
@@ -270,7 +270,7 @@ def design_matched_sta(
         vals = [exact_fraction(x, f"poles[{i}]") for i, x in enumerate(poles)] if poles is not None else \
             [Fraction(-(i + 1)) for i in range(m)]
         if len(vals) != m:
-            raise DimensionError(f"poles has {len(vals)} value(s); expected n − q = {m}")
+            raise for_option(DimensionError(f"poles has {len(vals)} value(s); expected n − q = {m}"), "poles")
         Km = _ackermann(red.A11, red.C_bar, vals)
     levels = len(red.M) - 1
     lg = _gain_pairs(gains, levels, default=DEFAULT_LEVEL_GAINS)

@@ -52,6 +52,7 @@ from uio_ring.errors import (
     NotObservableError,
     NotSupportedError,
     OptionError,
+    for_option,
 )
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
@@ -83,13 +84,14 @@ def input_bound_d(G_d: Q, ranges: Sequence[tuple[Fraction, Fraction]]) -> tuple[
 
 def _ranges(input_bounds: Any, input_ranges: Any, m: int) -> tuple[tuple[Fraction, Fraction], ...] | None:
     if input_bounds is not None and input_ranges is not None:
-        raise DimensionError("give input_bounds (|w_i| ≤ L_i) or input_ranges ([lo_i, hi_i]), not both")
+        raise for_option(DimensionError("give input_bounds (|w_i| ≤ L_i) or input_ranges ([lo_i, hi_i]), not both"),
+                         "input_ranges")
     if input_ranges is not None:
         rows = [tuple(exact_fraction(v, f"input_ranges[{i}]") for v in r) for i, r in enumerate(input_ranges)]
         if len(rows) != m or any(len(r) != 2 for r in rows):
-            raise DimensionError(f"input_ranges needs {m} pairs [lo, hi] (one per unknown input)")
+            raise for_option(DimensionError(f"input_ranges needs {m} pairs [lo, hi] (one per unknown input)"), "input_ranges")
         if any(lo > hi for lo, hi in rows):
-            raise DomainError("input_ranges: every pair needs lo ≤ hi")
+            raise for_option(DomainError("input_ranges: every pair needs lo ≤ hi"), "input_ranges")
         return tuple((r[0], r[1]) for r in rows)
     if input_bounds is None:
         return None
@@ -97,9 +99,10 @@ def _ranges(input_bounds: Any, input_ranges: Any, m: int) -> tuple[tuple[Fractio
         input_bounds = [input_bounds] * m
     Ls = [exact_fraction(v, f"input_bounds[{i}]") for i, v in enumerate(input_bounds)]
     if len(Ls) != m:
-        raise DimensionError(f"input_bounds has {len(Ls)} entries; expected {m} (one per unknown input)")
+        raise for_option(DimensionError(f"input_bounds has {len(Ls)} entries; expected {m} (one per unknown input)"),
+                         "input_bounds")
     if any(L < 0 for L in Ls):
-        raise DomainError("input_bounds must be ≥ 0")
+        raise for_option(DomainError("input_bounds must be ≥ 0"), "input_bounds")
     return tuple((-L, L) for L in Ls)
 
 
@@ -428,8 +431,8 @@ def design_scb(
     if d_obs not in D_OBSERVERS:
         raise NotSupportedError(f"d_observer={d_obs!r}: one of {', '.join(D_OBSERVERS)}")
     if d_obs in ("linear", "1-smo") and not unit:
-        raise DomainError(f"d_observer={d_obs!r} needs every chain of length 1 (strong* detectable); the chains "
-                          f"have lengths q = {s.q}: use 'hosmo'")
+        raise for_option(DomainError(f"d_observer={d_obs!r} needs every chain of length 1 (strong* detectable); "
+                                     f"the chains have lengths q = {s.q}: use 'hosmo'"), "d_observer")
     if poles_b is None:
         from uio_ring.design.noise import default_rate
 
@@ -437,8 +440,8 @@ def design_scb(
     else:
         poles = tuple(exact_fraction(p, f"poles_b[{i}]") for i, p in enumerate(poles_b))
         if len(poles) != s.n_b:
-            raise DimensionError(f"poles_b has {len(poles)} entries; the x_b part has n_b = {s.n_b} states "
-                                 f"(chains l = {s.l})")
+            raise for_option(DimensionError(f"poles_b has {len(poles)} entries; the x_b part has n_b = {s.n_b} "
+                                            f"states (chains l = {s.l})"), "poles_b")
     mu_v = Fraction(1, 2) if mu is None else exact_fraction(mu, "mu")
     d_prof = b_prof = None
     if d_obs == "dbho":
@@ -476,10 +479,10 @@ def design_scb(
             kappa = tuple(tuple(exact_fraction(k, f"gains[{i}][{j}]") for j, k in enumerate(ks))
                           for i, ks in enumerate(gains))
             if [len(k) for k in kappa] != list(s.q):
-                raise DimensionError(f"gains: chains of lengths {s.q} need that many gains each")
+                raise for_option(DimensionError(f"gains: chains of lengths {s.q} need that many gains each"), "gains")
         elif ranges is None:
-            raise DimensionError(f"d_observer={d_obs!r} needs input_bounds or input_ranges (the gains of "
-                                 "Theorem 2 come from the bounds of the unknown input)")
+            raise for_option(DimensionError(f"d_observer={d_obs!r} needs input_bounds or input_ranges (the gains "
+                                            "of Theorem 2 come from the bounds of the unknown input)"), "input_bounds")
         else:
             # Levant's gains need L > 0; a zero bound (w_d ≡ 0) still gets a small positive gain
             kappa = tuple(levant_gains(qi, D if D > 0 else Fraction(1, 10**6)) for qi, D in zip(s.q, Delta, strict=True))
@@ -487,10 +490,10 @@ def design_scb(
                 kappa = tuple(scaled_gains(k, qi, *d_prof) for k, qi in zip(kappa, s.q, strict=True))
         w = sign_weight(d_prof)
         if Delta and any(w * k[-1] <= D for k, D in zip(kappa, Delta, strict=True)):
-            raise DomainError(("gains: Theorem 2 needs κ_{i,q_i} > Δ_{d,i} (" if w == 1 else
-                               f"gains: the DBHO's sign term needs mu·κ_(i,q_i) > Δ_(d,i), mu = {w} (")
-                              + ", ".join(f"{float(w * k[-1]):.6g} vs {float(D):.6g}"
-                                          for k, D in zip(kappa, Delta, strict=True)) + ")")
+            raise for_option(DomainError(("gains: Theorem 2 needs κ_{i,q_i} > Δ_{d,i} (" if w == 1 else
+                                          f"gains: the DBHO's sign term needs mu·κ_(i,q_i) > Δ_(d,i), mu = {w} (")
+                                         + ", ".join(f"{float(w * k[-1]):.6g} vs {float(D):.6g}"
+                                                     for k, D in zip(kappa, Delta, strict=True)) + ")"), "gains")
     return SCBDesign(system=sys, scb=s, b_observer=b_observer, d_observer=d_obs, poles_b=poles,
                      L_b=_luenberger_gain(s, poles).to_polymatrix(), input_ranges=ranges, Delta_d=Delta,
                      kappa=kappa, reconstruct_input=reconstruct_input, b_profile=b_prof, kappa_b=kappa_b,

@@ -27,7 +27,7 @@ from fractions import Fraction
 from typing import Any
 
 from uio_ring.analysis.report import Report
-from uio_ring.errors import DomainError
+from uio_ring.errors import DomainError, for_option
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
 
@@ -125,14 +125,15 @@ def _betas(design: Any, w_bound: Fraction, e_bound: Fraction) -> list[Fraction]:
 def _read_bounds(w_bound: Any, e_bound: Any, theta: Any) -> tuple[Fraction, Fraction, Fraction]:
     w = exact_fraction(w_bound, "w_bound")
     if e_bound is None:
-        raise DomainError("w_bound needs e_bound: a bound of ‖x − x̃‖ after the Luenberger transient "
-                          "(the paper's ẽ⁺, (11))")
+        raise for_option(DomainError("w_bound needs e_bound: a bound of ‖x − x̃‖ after the Luenberger transient "
+                                     "(the paper's ẽ⁺, (11))"), "e_bound")
     e = exact_fraction(e_bound, "e_bound")
     th = DEFAULT_THETA if theta is None else exact_fraction(theta, "theta")
     if w < 0 or e <= 0:
-        raise DomainError(f"w_bound = {w} must be ≥ 0 and e_bound = {e} > 0")
+        raise for_option(DomainError(f"w_bound = {w} must be ≥ 0 and e_bound = {e} > 0"),
+                         "w_bound" if w < 0 else "e_bound")
     if not 0 < th < 1:
-        raise DomainError(f"theta = {th} must lie in (0, 1)")
+        raise for_option(DomainError(f"theta = {th} must lie in (0, 1)"), "theta")
     return w, e, th
 
 
