@@ -38,6 +38,21 @@ __all__ = ["PolyMatrix", "Poly", "require_matrix"]
 _MAX_REPR_ROWS = 40
 
 
+
+def binary_power(base: Any, e: int, one: Any) -> Any:
+    """``base**e`` by repeated squaring (``one`` is the identity), for any ``@``-multipliable square matrix.
+
+    >>> binary_power(PolyMatrix("[[1, d], [0, 1]]"), 3, PolyMatrix.identity(2))
+    PolyMatrix([[1, 3*d], [0, 1]])
+    """
+    out = one
+    while e:
+        if e & 1:
+            out = out @ base
+        base = base @ base
+        e >>= 1
+    return out
+
 class PolyMatrix:
     """A matrix with entries in Q[var]; ``var`` is δ (written ``d``) by default.
 
@@ -408,13 +423,7 @@ class PolyMatrix:
             raise DimensionError(f"only square matrices have powers; this one is {self._m}×{self._n}")
         if not isinstance(e, int) or e < 0:
             raise DomainError(f"exponent must be a non-negative int, got {e!r}")
-        out, base = PolyMatrix.identity(self._m, self.var), self
-        while e:
-            if e & 1:
-                out = out @ base
-            base = base @ base
-            e >>= 1
-        return out
+        return binary_power(self, e, PolyMatrix.identity(self._m, self.var))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PolyMatrix):

@@ -34,7 +34,7 @@ import flint
 
 from uio_ring.ring import constant as kernel
 from uio_ring.ring.errors import DimensionError, DomainError
-from uio_ring.ring.matrix import PolyMatrix
+from uio_ring.ring.matrix import PolyMatrix, binary_power
 from uio_ring.ring.poly import exact_fraction
 
 __all__ = ["QMatrix", "RowEchelon"]
@@ -336,13 +336,7 @@ class QMatrix:
             raise DimensionError(f"only square matrices have powers; this one is {self.rows}×{self.cols}")
         if not isinstance(e, int) or isinstance(e, bool) or e < 0:
             raise DomainError(f"exponent must be a non-negative int, got {e!r}")
-        out, base = QMatrix.identity(self.rows), self
-        while e:
-            if e & 1:
-                out = out @ base
-            base = base @ base
-            e >>= 1
-        return out
+        return binary_power(self, e, QMatrix.identity(self.rows))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, QMatrix):
