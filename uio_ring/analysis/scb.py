@@ -135,14 +135,20 @@ class SpecialCoordinateBasis:
     C_bar: PolyMatrix
     D_bar: PolyMatrix
     n_a: int
-    n_b: int
-    n_d: int
     m_0: int
     q: tuple[int, ...]
     l: tuple[int, ...]
     n_c: int = 0
 
     # -- sizes ---------------------------------------------------------------------------------
+    @property
+    def n_b(self) -> int:
+        return sum(self.l)
+
+    @property
+    def n_d(self) -> int:
+        return sum(self.q)
+
     @property
     def m_d(self) -> int:
         return len(self.q)
@@ -391,5 +397,5 @@ def special_coordinate_basis(sys: DelaySystem) -> SpecialCoordinateBasis:
         B_bar=(Tsi @ red.B @ Ti).to_polymatrix(),
         C_bar=(Toi @ red.C @ Ts).to_polymatrix(),
         D_bar=(Toi @ red.D @ Ti).to_polymatrix(),
-        n_a=core.n_a, n_b=core.n_b, n_d=core.n_d, m_0=m0, q=core.q, l=core.l, n_c=core.n_c,
+        n_a=core.n_a, m_0=m0, q=core.q, l=core.l, n_c=core.n_c,
     )

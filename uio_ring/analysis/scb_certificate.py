@@ -104,11 +104,11 @@ def scb_certificate(scb: SpecialCoordinateBasis) -> Certificate:
     ]
     na, nb, nc, nd, m0, md, pb = scb.n_a, scb.n_b, scb.n_c, scb.n_d, scb.m_0, scb.m_d, scb.p_b
     mc = scb.m_c
-    sizes = (na + nb + nc + nd == n and sum(scb.q) == nd and sum(scb.l) == nb and m0 + md + mc == m
-             and m0 + md + pb == p and list(scb.q) == sorted(scb.q, reverse=True)
-             and all(k >= 1 for k in scb.q + scb.l) and (mc > 0) == (nc > 0))
-    checks.append(Check("sizes: n = n_a + n_b + n_c + n_d, Σq = n_d, Σl = n_b, m = m_0 + m_d + m_c, "
-                        "p = m_0 + m_d + p_b, q non-increasing", sizes,
+    sizes = (na + nb + nc + nd == n and m0 + md + mc == m and m0 + md + pb == p
+             and list(scb.q) == sorted(scb.q, reverse=True) and all(k >= 1 for k in scb.q + scb.l)
+             and (mc > 0) == (nc > 0))
+    checks.append(Check("sizes: n = n_a + Σl + n_c + Σq, m = m_0 + m_d + m_c, p = m_0 + m_d + p_b, "
+                        "q non-increasing", sizes,
                         None if sizes else (na, nb, nc, nd, m0, md, mc, pb, scb.q, scb.l)))
     if not sizes:
         return Certificate("special coordinate basis", checks)

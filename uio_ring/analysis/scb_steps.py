@@ -401,11 +401,13 @@ class CoreSCB:
     Ti: QMatrix
     To: QMatrix
     n_a: int
-    n_b: int
     n_c: int
-    n_d: int
     q: tuple[int, ...]
     l: tuple[int, ...]
+
+    @property
+    def n_b(self) -> int:
+        return sum(self.l)
 
 
 def left_invertible_scb(A: QMatrix, B: QMatrix, C: QMatrix, V: QMatrix) -> CoreSCB:
@@ -427,7 +429,7 @@ def left_invertible_scb(A: QMatrix, B: QMatrix, C: QMatrix, V: QMatrix) -> CoreS
     Ts = Ts @ theorem1_transformation(Ts, A, q, na + obs.rows.rows)
     p = C.rows
     To = vstack([kd, obs.y_rows], p).inverse(name="To⁻¹") if p else Q.zeros(0, 0)
-    return CoreSCB(Ts, Ti, To, na, obs.rows.rows, 0, T_d.cols, q, tuple(obs.l))
+    return CoreSCB(Ts, Ti, To, na, 0, q, tuple(obs.l))
 
 
 def _kron(X: QMatrix, Y: QMatrix) -> QMatrix:
@@ -461,7 +463,7 @@ def controllable_part_scb(A: QMatrix, B: QMatrix, C: QMatrix, R: QMatrix) -> Cor
     Uc = (Pq @ B).nullspace()  # inputs pointing into R*
     Tid0 = hstack([_unit_col(m, i) for i in _complement_rows(Uc)], m) if Uc.cols < m else Q.zeros(m, 0)
     if nc == n:  # the whole state is x_c (then C = 0 and every input points into R*)
-        return CoreSCB(R, hstack([Tid0, Uc], m), Q.identity(C.rows), 0, 0, nc, 0, (), ())
+        return CoreSCB(R, hstack([Tid0, Uc], m), Q.identity(C.rows), 0, nc, (), ())
     X = left_solve(hstack([R, B], n).T, (A @ R).T, "A R* = R* A_r + B G").T
     A_r, G = X.take_rows(range(nc)), X.take_rows(range(nc, nc + m))
     K = -(G @ (R.T @ R).inverse(name="Rᵀ R") @ R.T)
@@ -506,4 +508,4 @@ def controllable_part_scb(A: QMatrix, B: QMatrix, C: QMatrix, R: QMatrix) -> Cor
     # basis (it keeps C_d and B_d, so the patterns of the other parts stay)
     Ts = Ts @ theorem1_transformation(Ts, A, core.q, na + nb + nc)
     Ti = hstack([Ti_d, Uc], m)
-    return CoreSCB(Ts, Ti, core.To, na, nb, nc, core.n_d, core.q, core.l)
+    return CoreSCB(Ts, Ti, core.To, na, nc, core.q, core.l)
