@@ -334,10 +334,15 @@ class ObserverStepper:
         Overrides the injection term's discretisation (``"implicit"``, ``"explicit"``, ``"euler"``).
     guard_blocks : int, optional
         Overrides ``model.guard_blocks`` (0 when y is smooth across the multiples of h).
+    kernel : str, optional
+        Backend of the step loop of :meth:`trajectories` for models with an injection term:
+        ``"auto"``, ``"python"`` or ``"numba"`` (default: ``$UIO_RING_KERNEL``, else ``"auto"``;
+        see :mod:`uio_ring.numeric.backend`).  The attribute ``kernel`` says which one runs
+        (``"python"`` for linear models, bi-homogeneous chains and the streaming :meth:`step`).
     """
 
     def __init__(self, model: ObserverModel, dt: Any, *, discretisation: str | None = None,
-                 guard_blocks: int | None = None):
+                 guard_blocks: int | None = None, kernel: str | None = None):
         if discretisation is not None:
             if discretisation not in DISCRETISATIONS:
                 raise SimulationError(f"discretisation={discretisation!r}; expected one of {DISCRETISATIONS}")
@@ -391,7 +396,26 @@ class ObserverStepper:
             blk[:n, :n], blk[:n, n:] = hi.A * self.dt, hi.B * self.dt
             Gam = expm(blk)[:n, n:]
             self._held = (Gam, hi.M @ Gam, hi.B)  # exact effect on ξ and on g_{k+1}; direct term
+        self.kernel_option = kernel
+        self.kernel, self._tables = self._kernel_tables(kernel)
         self.k = -1
+
+    def _kernel_tables(self, kernel: str | None) -> tuple[str, Any]:
+        """The backend of the step loop and, for numba, the compiled loop's tables (an Euler
+        step is the explicit loop with ``Φ = I + dt F``, ``Kl = dt I``)."""
+        inj = self.inj
+        if inj is None or any(b is not None for b in inj.bihom):
+            return "python", None
+        from uio_ring.numeric.backend import resolve_kernel
+
+        if resolve_kernel(kernel) == "python":
+            return "python", None
+        from uio_ring.numeric.kernel import chain_tables
+
+        if inj.method == "euler":
+            eye = np.eye(self.n_z)
+            return "numba", chain_tables(inj, eye + self.dt * self.model.F, self.dt * eye)
+        return "numba", chain_tables(inj, self.Phi, self.Kl)
 
     @property
     def discretisation(self) -> str | None:
@@ -657,6 +681,8 @@ class ObserverStepper:
         Xi[0] = xi
         Phi, Kl, F, dt, method = self.Phi, self.Kl, self.model.F, self.dt, inj.method
         Fq = self._forcing_table(G, T) if T > 1 else np.zeros((0, self.n_z))
+        if self._tables is not None:
+            return self._run_kernel(Fq, G, Meas, Xi, T, D, progress)
         if method == "implicit":
             for k0 in range(1, T, 1024):  # chunks: the checkpoint every 1024 steps
                 k1 = min(k0 + 1024, T)
@@ -672,6 +698,25 @@ class ObserverStepper:
             Xi[k] = xi
             if k % 1024 == 0:
                 self._checkpoint(k, xi, progress)
+        return self._outputs(Xi + D, Xi, T)
+
+    def _run_kernel(self, Fq: np.ndarray, G: np.ndarray, Meas: np.ndarray, Xi: np.ndarray, T: int, D: np.ndarray,
+                    progress: Any) -> ObserverTrajectories:
+        """:meth:`_run_loop` by the compiled loop (:mod:`uio_ring.numeric.kernel`, K = 1), in the
+        same chunks between checkpoints."""
+        from uio_ring.numeric.kernel import explicit_steps, implicit_steps
+
+        assert self.inj is not None and self._tables is not None
+        method = self.inj.method
+        if method == "euler":  # g(t_{k−1}) over the step k − 1 → k, weighted by dt
+            Fq = self.dt * G[2 : T + 1]
+        run = implicit_steps if method == "implicit" else explicit_steps
+        Fq3, Meas3, Xi3 = np.ascontiguousarray(Fq)[:, None, :], np.ascontiguousarray(Meas)[:, None, :], Xi[:, None, :]
+        for k0 in range(1, T, 1024):
+            k1 = min(k0 + 1024, T)
+            run(self._tables, Fq3[k0 - 1 : k1 - 1], Meas3[k0 - 1 : k1], Xi3[k0 - 1], Xi3[k0:k1])
+            if (k1 - 1) % 1024 == 0:
+                self._checkpoint(k1 - 1, Xi[k1 - 1], progress)
         return self._outputs(Xi + D, Xi, T)
 
     def _run_phi(self, Yrows: np.ndarray, Urows: np.ndarray, T: int, xi: np.ndarray, phi: Any,

@@ -541,6 +541,15 @@ class _BatchObserver:
         rows = slice(off + j0, off + j0 + M + 1)
         Meas = binj.measured(Yrows[rows], Urows[rows])  # Meas[q] at t_{j0 + q}
         g0 = j0 - (jlo - 3)
+        if st._tables is not None:  # the compiled loop (uio_ring.numeric.kernel), all K scenarios
+            from uio_ring.numeric.kernel import explicit_steps, implicit_steps
+
+            if method == "euler":
+                Fq = dt * G[g0 : g0 + M]
+            run = implicit_steps if method == "implicit" else explicit_steps
+            c = np.ascontiguousarray
+            run(st._tables, c(Fq), c(Meas), c(xi), out)
+            return out
         with np.errstate(all="ignore"):
             for q in range(M):
                 if method == "implicit":
@@ -671,6 +680,7 @@ def simulate_batch(
     segment_steps: int | None = None,
     progress: bool | None = None,
     on_segment: Callable[[Segment], None] | None = None,
+    kernel: str | None = None,
 ) -> BatchResult:
     """Run ``len(scenarios)`` scenarios of ``design`` in one vectorised call (one plant, or one per scenario).
 
@@ -707,6 +717,9 @@ def simulate_batch(
     on_segment : callable, optional
         Called with each :class:`Segment` as soon as it is computed (stream the trajectories
         to disk with bounded memory: the segment's arrays are not kept).
+    kernel : str, optional
+        Backend of the observer's step loop (injection terms), as in :func:`simulate_observer`:
+        with numba, one compiled loop over the K scenarios and their steps.
 
     Returns
     -------
@@ -739,7 +752,7 @@ def simulate_batch(
     if (model.n_x, model.n_y) != (S.n_x, S.n_y) or (S.n_u and model.n_u != S.n_u):
         raise DimensionError(f"the design is for {model.n_x} states, {model.n_y} outputs and {model.n_u} known "
                              f"inputs; the plant has {S.n_x}, {S.n_y} and {S.n_u}")
-    stepper = model.stepper(dtv, discretisation=discretisation)
+    stepper = model.stepper(dtv, discretisation=discretisation, kernel=kernel)
     if model.h is not None:
         dtv = stepper.dt
         ph = float(model.h) if plant_h is None else as_float(plant_h, "plant_h")

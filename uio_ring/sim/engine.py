@@ -88,6 +88,7 @@ def simulate_observer(
     exact_start: bool = False,
     phi: Callable[[float, np.ndarray], Any] | None = None,
     check: bool = True,
+    kernel: str | None = None,
 ) -> SimulationResult:
     """Simulate the plant and the observer of ``design`` on it.
 
@@ -135,6 +136,10 @@ def simulate_observer(
         ``dt/2``, without noise; when the two disagree the result has ``success=False``,
         its ``message`` says why and an :class:`~uio_ring.sim.accuracy.AccuracyWarning`
         is issued.  ``result.accuracy`` holds the figures (None when not checked).
+    kernel : str, optional
+        Backend of the observer's step loop when it has an injection term: ``"auto"``,
+        ``"python"`` or ``"numba"`` (default: ``$UIO_RING_KERNEL``, else ``"auto"`` — numba
+        when installed; :mod:`uio_ring.numeric.backend`).  The accuracy check uses the same.
 
     Returns
     -------
@@ -142,7 +147,7 @@ def simulate_observer(
         ``t, x, y, w, u, x_hat, error = x − x_hat`` and ``w_hat`` (time on the last axis).
     """
     args = dict(t_final=t_final, dt=dt, w=w, u=u, x0=x0, noise=noise, x_hat0=x_hat0, seed=seed, progress=progress,
-                h=h, feedback=feedback, discretisation=discretisation, exact_start=exact_start, phi=phi)
+                h=h, feedback=feedback, discretisation=discretisation, exact_start=exact_start, phi=phi, kernel=kernel)
     result = _simulate(design, plant, **args)
     if not check or feedback is not None or np.ndim(w) == 2 or np.ndim(u) == 2:
         return result  # held inputs and sampled signals depend on the grid: no dt/2 run to compare with
@@ -175,7 +180,7 @@ def _checked(result: SimulationResult, design: Any, plant: Any, args: dict[str, 
 
 def _simulate(design: Any, plant: Any, *, t_final: Any, dt: Any, w: Any, u: Any, x0: Any, noise: Any, x_hat0: Any,
               seed: int | None, progress: bool | None, h: Any, feedback: Any, discretisation: str | None,
-              exact_start: bool, phi: Any) -> SimulationResult:
+              exact_start: bool, phi: Any, kernel: str | None = None) -> SimulationResult:
     sys = plant if plant is not None else getattr(design, "system", None)
     if sys is None:
         raise SimulationError("plant is required: the design has no system")
@@ -183,7 +188,7 @@ def _simulate(design: Any, plant: Any, *, t_final: Any, dt: Any, w: Any, u: Any,
     model = design.numeric(h=h if h is not None else getattr(sys, "h", None))
     _check_sizes(model, sys)
     hv = _grid_h(model, sys, h, dtv)
-    stepper = model.stepper(dtv, discretisation=discretisation)
+    stepper = model.stepper(dtv, discretisation=discretisation, kernel=kernel)
     stepper_dt = stepper.dt if model.h is not None else hv / round(hv / dtv)
     nz = as_noise(noise)
     if nz is not None and seed is not None:
@@ -328,7 +333,7 @@ def _warm(model: Any, stepper: Any, sys: Any, h: float, t_final: Any, w: Any, u:
         unknown_input_names=full.unknown_input_names, known_input_names=full.known_input_names,
         noise=None if full.noise is None else full.noise[:, sl],
     )
-    exact = type(stepper)(model, stepper.dt, guard_blocks=0)  # the plant's break points lie before 0
+    exact = type(stepper)(model, stepper.dt, guard_blocks=0, kernel=stepper.kernel_option)  # the plant's break points lie before 0
     traj = exact.trajectories(res.y, res.u if model.n_u else None, z0=z0,
                               y_history=full.y[:, s0 - L : s0], u_history=full.u[:, s0 - L : s0] if model.n_u else None)
     return _result(res, traj, exact, model)
