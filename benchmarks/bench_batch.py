@@ -24,6 +24,9 @@ What is timed
             simulate_observer (check=False); CPU time (time.process_time), best of 2, each
             time with the integrator tables of every plant built (as in a sweep: new plants).
 Both are checked to give the same numbers (max |x̂_batch − x̂_single| / max |x|).
+The aircraft case is timed with both backends of the observer's step loop: ``kernel="python"``
+(numpy, vectorised over K) and ``"numba"`` (the compiled loop, when numba is installed:
+``pip install -e '.[fast]'``); the linear paper 001 cases have no such loop.
 
 Usage::
 
@@ -75,6 +78,15 @@ def aircraft_case(K: int, rng: np.random.Generator):
     return des, scen, {"discretisation": "implicit"}
 
 
+def kernels() -> tuple[str, ...]:
+    """The backends to time: python, and numba when it is installed."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return ("python",)
+    return ("python", "numba")
+
+
 def best(f, repeats=2, clock=time.perf_counter):
     out, el = None, float("inf")
     for _ in range(repeats):
@@ -106,13 +118,15 @@ def bench_plants(K, t_final, dt, n_single):
     dev = max(float(np.max(np.abs(r.x_hat - traj.x_hat[k])) / np.max(np.abs(r.x))) for k, r in enumerate(singles))
     rate_b, rate_1, rate_s = K * steps / el_b, n_single * steps / el_1, n_single * steps / el_s
     conv = int(np.sum(np.isfinite(res.metrics["t_converge"])))
-    print(f"{'K plants, dt=' + format(dt, 'g'):<26} {K:>5} {steps:>7} {el_b:>9.3f} {rate_b:>12.3g} {rate_s:>12.3g} "
+    print(f"{'K plants, dt=' + format(dt, 'g'):<32} {K:>5} {steps:>7} {el_b:>9.3f} {rate_b:>12.3g} {rate_s:>12.3g} "
           f"{rate_b / rate_s:>8.1f} {dev:>10.1e} {conv:>5}   (batch K=1 per plant: {rate_1:.3g} st/s, "
           f"speed-up {rate_b / rate_1:.1f})")
 
 
-def bench(name, case, K, t_final, dt, n_single):
+def bench(name, case, K, t_final, dt, n_single, kernel=None):
     des, scen, opts = case(K, np.random.default_rng(0))
+    if kernel is not None:
+        opts = {**opts, "kernel": kernel}
     steps = int(round(t_final / dt))
     el_b, res = best(lambda: simulate_batch(des, scen, t_final=t_final, dt=dt, **opts))
     traj = simulate_batch(des, scen[:n_single], t_final=t_final, dt=dt, trajectories=True, **opts)
@@ -128,7 +142,7 @@ def bench(name, case, K, t_final, dt, n_single):
     rate_b = K * steps / el_b
     rate_s = n_single * steps / el_s
     conv = int(np.sum(np.isfinite(res.metrics["t_converge"])))
-    print(f"{name:<26} {K:>5} {steps:>7} {el_b:>9.3f} {rate_b:>12.3g} {rate_s:>12.3g} {rate_b / rate_s:>8.1f} "
+    print(f"{name:<32} {K:>5} {steps:>7} {el_b:>9.3f} {rate_b:>12.3g} {rate_s:>12.3g} {rate_b / rate_s:>8.1f} "
           f"{dev:>10.1e} {conv:>5}")
 
 
@@ -139,11 +153,12 @@ def main() -> None:
     args = ap.parse_args()
     K = 8 if args.quick else args.K
     print("scenario-steps/s: K · steps / time (plant + observer + metrics); single = simulate_observer per scenario")
-    print(f"{'problem':<26} {'K':>5} {'steps':>7} {'batch [s]':>9} {'batch st/s':>12} {'single st/s':>12} "
+    print(f"{'problem':<32} {'K':>5} {'steps':>7} {'batch [s]':>9} {'batch st/s':>12} {'single st/s':>12} "
           f"{'speed-up':>8} {'max dev':>10} {'conv':>5}")
     bench("paper 001 (ZB, dt=1e-4)", paper001_case, K, 0.1 if args.quick else 1.0, 1e-4, 2 if args.quick else 4)
     bench("paper 001 (ZB, dt=1e-3)", paper001_case, K, 0.5 if args.quick else 5.0, 1e-3, 2 if args.quick else 4)
-    bench("aircraft (NF, implicit)", aircraft_case, K, 0.02 if args.quick else 0.5, 1e-4, 2)
+    for kern in kernels():
+        bench(f"aircraft (NF, implicit, {kern})", aircraft_case, K, 0.02 if args.quick else 0.5, 1e-4, 2, kernel=kern)
     print("K perturbed plants of paper 001 (one plant per scenario), CPU time; single = one call per plant")
     bench_plants(K, 0.1 if args.quick else 1.0, 1e-4, 2 if args.quick else 4)
     bench_plants(K, 0.5 if args.quick else 5.0, 1e-3, 2 if args.quick else 4)

@@ -9,7 +9,10 @@ explicit discretisation, and on Example 2 (Section 3, ``matched-sta``, the uncer
 Simulation times are CPU (process) times, the least of three runs.  Timings are never asserted.
 ``simulate_observer`` repeats the start of a run with dt/2 (its a-posteriori accuracy check,
 about 40 % more observer steps on Example 1); the last column, ``no check``, is the rate of the
-same run with ``check=False`` (plant + observer only).
+same run with ``check=False`` (plant + observer only).  Each simulation is timed with both
+backends of the observer's step loop (``kernel="python"``, and ``"numba"`` when numba is
+installed: ``pip install -e '.[fast]'``); ``first call`` is the wall time of the first numba
+run in this process (loading the compiled loop from numba's disk cache, or compiling it).
 
 Usage::
 
@@ -73,6 +76,21 @@ def best_of(runs: int, fn) -> tuple:
     return out, best
 
 
+def kernels() -> tuple[str, ...]:
+    """The backends to time: python, and numba when it is installed."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return ("python",)
+    return ("python", "numba")
+
+
+def first_call(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
@@ -87,30 +105,33 @@ def main() -> None:
     t_final = 1.0 if args.quick else 10.0
     des = design_hierarchical_sta(ex1, gains=paper002.GAINS)
     print(f"\nsimulation (Example 1, plant + observer, dt = 1e-3, {t_final:g} s)")
-    print(f"{'discretisation':<15} {'steps':>7} {'time [s]':>9} {'steps/s':>9} {'max err t>=2':>13} "
+    print(f"{'discretisation':<15} {'kernel':<7} {'steps':>7} {'time [s]':>9} {'steps/s':>9} {'max err t>=2':>13} "
           f"{'no check':>9}")
     for disc in ("implicit", "explicit"):
-        def run1(check: bool = True, disc: str = disc):
-            return simulate_observer(des, t_final=t_final, dt=1e-3, w=paper002.w, u=paper002.u, x0=paper002.X0,
-                                     discretisation=disc, check=check)
-        r, el = best_of(3, run1)
-        _, el_nc = best_of(3, lambda run1=run1: run1(False))
-        late = r.t >= min(2.0, t_final / 2)
-        print(f"{disc:<15} {r.t.size - 1:>7} {el:>9.3f} {(r.t.size - 1) / el:>9.0f} "
-              f"{float(np.max(r.error_norm()[late])):>13.2e} {(r.t.size - 1) / el_nc:>9.0f}")
+        for kern in kernels():
+            def run1(check: bool = True, disc: str = disc, kern: str = kern):
+                return simulate_observer(des, t_final=t_final, dt=1e-3, w=paper002.w, u=paper002.u, x0=paper002.X0,
+                                         discretisation=disc, check=check, kernel=kern)
+            if kern == "numba":
+                print(f"  (numba, first call: {first_call(run1):.2f} s wall)")
+            r, el = best_of(3, run1)
+            _, el_nc = best_of(3, lambda run1=run1: run1(False))
+            late = r.t >= min(2.0, t_final / 2)
+            print(f"{disc:<15} {kern:<7} {r.t.size - 1:>7} {el:>9.3f} {(r.t.size - 1) / el:>9.0f} "
+                  f"{float(np.max(r.error_norm()[late])):>13.2e} {(r.t.size - 1) / el_nc:>9.0f}")
     des2 = design_matched_sta(paper002.example2(), poles=[-3, -4], gains=paper002.GAINS_2)
     print(f"\nsimulation (Example 2, matched-sta, n_z = {des2.numeric().n_z}, the uncertain plant, dt = 1e-3, "
           f"{t_final:g} s)")
-    print(f"{'discretisation':<15} {'steps':>7} {'time [s]':>9} {'steps/s':>9} {'max err t>=1':>13} "
+    print(f"{'discretisation':<15} {'kernel':<7} {'steps':>7} {'time [s]':>9} {'steps/s':>9} {'max err t>=1':>13} "
           f"{'no check':>9}")
-
-    def run2(check: bool = True):
-        return simulate_observer(des2, paper002.example2_true_plant(), t_final=t_final, dt=1e-3, u=paper002.u2,
-                                 x0=paper002.X0_2, check=check)
-    r, el = best_of(3, run2)
-    _, el_nc = best_of(3, lambda: run2(False))
-    print(f"{'implicit':<15} {r.t.size - 1:>7} {el:>9.3f} {(r.t.size - 1) / el:>9.0f} "
-          f"{float(np.max(r.error_norm()[r.t >= min(1.0, t_final / 2)])):>13.2e} {(r.t.size - 1) / el_nc:>9.0f}")
+    for kern in kernels():
+        def run2(check: bool = True, kern: str = kern):
+            return simulate_observer(des2, paper002.example2_true_plant(), t_final=t_final, dt=1e-3, u=paper002.u2,
+                                     x0=paper002.X0_2, check=check, kernel=kern)
+        r, el = best_of(3, run2)
+        _, el_nc = best_of(3, lambda run2=run2: run2(False))
+        print(f"{'implicit':<15} {kern:<7} {r.t.size - 1:>7} {el:>9.3f} {(r.t.size - 1) / el:>9.0f} "
+              f"{float(np.max(r.error_norm()[r.t >= min(1.0, t_final / 2)])):>13.2e} {(r.t.size - 1) / el_nc:>9.0f}")
 
 
 if __name__ == "__main__":

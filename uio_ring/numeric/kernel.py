@@ -90,8 +90,7 @@ def implicit_steps(t: ChainTables, Fq: np.ndarray, Meas: np.ndarray, xi0: np.nda
     Shapes ``Fq``, ``out`` (M, K, n), ``Meas`` (M + 1, K, p), ``xi0`` (K, n); float64, C-contiguous
     (precondition, not checked: ``out`` is written in place).
     """
-    _compiled()[0](t.PhiT, t.KlT, t.R, t.RK, t.starts, t.mu, t.coef, t.s0, t.kap, t.ex, t.cols,
-                   Fq, Meas, xi0, out)
+    _compiled()[0](t.PhiT, t.KlT, t.R, t.RK, t.starts, t.mu, t.coef, t.s0, t.kap, t.cols, Fq, Meas, xi0, out)
 
 
 def explicit_steps(t: ChainTables, Fq: np.ndarray, Meas: np.ndarray, xi0: np.ndarray, out: np.ndarray) -> None:
@@ -109,14 +108,15 @@ def _compiled() -> tuple[Any, Any]:
 
 
 # The loops below are compiled by numba (nopython mode): plain loops over plain arrays.
-def _implicit_loop(PhiT, KlT, R, RK, starts, mu, coef, s0, kap, ex, cols, Fq, Meas, xi0, out):  # pragma: no cover
+def _implicit_loop(PhiT, KlT, R, RK, starts, mu, coef, s0, kap, cols, Fq, Meas, xi0, out):  # pragma: no cover
     M, K, n = Fq.shape
     p = starts.shape[0]
     x, lin, lvec, base = np.empty(n), np.empty(n), np.zeros(n), np.empty(p)
-    for k in range(K):
-        for i in range(n):
-            x[i] = xi0[k, i]
-        for q in range(M):
+    for q in range(M):  # steps outer, scenarios inner: the arrays are read in memory order
+        for k in range(K):
+            prev = xi0[k] if q == 0 else out[q - 1, k]
+            for i in range(n):
+                x[i] = prev[i]
             for i in range(n):
                 lin[i] = 0.0
             for c in range(n):  # lin = Φ x + Fq (columns of Φ: the inner loop vectorises)
@@ -148,17 +148,22 @@ def _implicit_loop(PhiT, KlT, R, RK, starts, mu, coef, s0, kap, ex, cols, Fq, Me
                     lvec[s] = (0.5 * kap[j, 0]) * math.copysign(math.sqrt(c1 * c1 + 4.0 * (mag - sj)) - c1, a)
                     lvec[s + 1] = kap[j, 1] * (a / mag)
                     continue
-                c = mag - sj
+                rhs = mag - sj
                 sgn = math.copysign(1.0, a)
                 if m > 1:  # solve_chain's Newton iteration on s = |σ|^{1/μ}
-                    r = c ** (1.0 / m)
+                    if m == 4:  # the start c^{1/μ} (by roots where there are cheaper ones than pow)
+                        r = math.sqrt(math.sqrt(rhs))
+                    elif m == 3:
+                        r = np.cbrt(rhs)
+                    else:
+                        r = rhs ** (1.0 / m)
                     for _ in range(100):
                         f, df = 1.0, 0.0
                         for kk in range(m - 1):
                             df = df * r + f
                             f = f * r + coef[j, kk]
                         df = df * r + f
-                        f = f * r - c
+                        f = f * r - rhs
                         if f <= 0.0 or df <= 0.0:
                             break
                         r_new = r - f / df
@@ -166,10 +171,13 @@ def _implicit_loop(PhiT, KlT, R, RK, starts, mu, coef, s0, kap, ex, cols, Fq, Me
                             r = max(r_new, 0.0)
                             break
                         r = r_new
-                    sig = r**m
-                    if sig != 0.0:
+                    pw = r  # |σ|^{(μ−k)/μ} = r^{μ−k}: products, from the sign's neighbour up
+                    for kk in range(m - 2, -1, -1):
+                        lvec[s + kk] = kap[j, kk] * pw * sgn
+                        pw *= r
+                    if pw == 0.0:  # |σ| = r^μ underflows: σ = 0, as solve_chain returns it
                         for kk in range(m - 1):
-                            lvec[s + kk] = kap[j, kk] * sig ** ex[j, kk] * sgn
+                            lvec[s + kk] = 0.0
                 lvec[s + m - 1] = kap[j, m - 1] * sgn
             for i in range(n):
                 x[i] = 0.0
@@ -186,11 +194,10 @@ def _implicit_loop(PhiT, KlT, R, RK, starts, mu, coef, s0, kap, ex, cols, Fq, Me
 def _explicit_loop(PhiT, KlT, R, starts, mu, kap, ex, cols, Fq, Meas, xi0, out):  # pragma: no cover
     M, K, n = Fq.shape
     p = starts.shape[0]
-    x, new, lvec = np.empty(n), np.empty(n), np.zeros(n)
-    for k in range(K):
-        for i in range(n):
-            x[i] = xi0[k, i]
-        for q in range(M):
+    new, lvec = np.empty(n), np.zeros(n)
+    for q in range(M):
+        for k in range(K):
+            x = xi0[k] if q == 0 else out[q - 1, k]
             for j in range(p):  # l(σ) at the old time
                 acc = 0.0
                 for i in range(n):
@@ -214,5 +221,4 @@ def _explicit_loop(PhiT, KlT, R, starts, mu, kap, ex, cols, Fq, Meas, xi0, out):
                 for i in range(n):
                     new[i] += KlT[c, i] * v
             for i in range(n):
-                x[i] = new[i]
                 out[q, k, i] = new[i]
