@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import importlib.util
+
 import numpy as np
 import pytest
 from design import paper000, paper001
@@ -19,6 +21,13 @@ def zb():
 @pytest.fixture(scope="module")
 def nf():
     return design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
+
+
+needs_numba = pytest.mark.skipif(importlib.util.find_spec("numba") is None,
+                                 reason="numba is not installed (pip install 'uio-ring[fast]')")
+# the step loop of injection terms: the Python one (vectorised over K; scalar below a row count)
+# and the compiled one (uio_ring.numeric.kernel)
+KERNELS = ["python", pytest.param("numba", marks=needs_numba)]
 
 
 def _w(a, f):
@@ -49,8 +58,9 @@ def test_batch_equals_separate_runs_delay_observer(zb, K):
         assert res.metrics["final"][k] == pytest.approx(e[-1], rel=1e-9)
 
 
+@pytest.mark.parametrize("kernel", KERNELS)
 @pytest.mark.parametrize("disc, scalar_below", [("implicit", 0), ("implicit", 100), ("explicit", 0), ("euler", 0)])
-def test_batch_equals_separate_runs_normal_form(nf, disc, scalar_below, monkeypatch):
+def test_batch_equals_separate_runs_normal_form(nf, disc, scalar_below, kernel, monkeypatch):
     import uio_ring.sim.batch as batch
 
     monkeypatch.setattr(batch, "SCALAR_CHAINS_BELOW", scalar_below)  # vectorised / scalar chain solver
@@ -59,10 +69,10 @@ def test_batch_equals_separate_runs_normal_form(nf, disc, scalar_below, monkeypa
                    u=u_sine if k % 2 else [0.0, 0.01], noise=0.001 if k == 2 else None, seed=3)
           for k, (f, a) in enumerate([(1.0, 0.01), (0.5, 0.0), (1.5, 0.005)])]
     res = simulate_batch(nf, sc, t_final=0.05, dt=1e-4, trajectories=True, segment_steps=123,
-                         discretisation=disc)
+                         discretisation=disc, kernel=kernel)
     for k, s in enumerate(sc):
         r = simulate_observer(nf, t_final=0.05, dt=1e-4, w=s.w, u=s.u, x0=s.x0, noise=s.noise, seed=s.seed,
-                              discretisation=disc)
+                              discretisation=disc, kernel=kernel)
         _same(res, k, r)
 
 
@@ -100,8 +110,9 @@ def test_bad_input(zb):
         simulate_batch(zb, [Scenario()], t_final=0.1, dt=3e-3)
 
 
+@pytest.mark.parametrize("kernel", KERNELS)
 @pytest.mark.parametrize("scalar_below", [0, 100])
-def test_batch_equals_separate_runs_hierarchical_sta(scalar_below, monkeypatch):
+def test_batch_equals_separate_runs_hierarchical_sta(scalar_below, kernel, monkeypatch):
     """Chains coupled through sigma_xi (the levels of a hierarchical super-twisting observer).
 
     Each level differentiates the one below: simulate_observer itself moves x̂ by 5e-11 when y
@@ -115,6 +126,6 @@ def test_batch_equals_separate_runs_hierarchical_sta(scalar_below, monkeypatch):
     monkeypatch.setattr(batch, "SCALAR_CHAINS_BELOW", scalar_below)
     des = design_hierarchical_sta(paper002.example1(), gains=paper002.GAINS)
     sc = [Scenario(x0=np.array(paper002.X0) * f, w=paper002.w, u=paper002.u) for f in (1.0, -0.5, 2.0)]
-    res = simulate_batch(des, sc, t_final=0.3, dt=1e-3, trajectories=True, segment_steps=77)
+    res = simulate_batch(des, sc, t_final=0.3, dt=1e-3, trajectories=True, segment_steps=77, kernel=kernel)
     for k, s in enumerate(sc):
-        _same(res, k, simulate_observer(des, t_final=0.3, dt=1e-3, w=s.w, u=s.u, x0=s.x0), rel=1e-9)
+        _same(res, k, simulate_observer(des, t_final=0.3, dt=1e-3, w=s.w, u=s.u, x0=s.x0, kernel=kernel), rel=1e-9)
