@@ -272,6 +272,7 @@ class _BatchInjection:
 
     def __init__(self, inj: Any):
         self.inj = inj
+        self.bihom = any(b is not None for b in inj.bihom)  # such chains: the stepper's scalar step, row by row
         self.KlT = inj.Kl.T.copy()
         self.RT = inj.R.T.copy()  # σ = meas + R ξ (R = sigma_xi − the chains' first states)
 
@@ -281,6 +282,8 @@ class _BatchInjection:
 
     def l_of(self, sigma: np.ndarray) -> np.ndarray:
         inj = self.inj
+        if self.bihom:
+            return np.stack([inj.l_of(row) for row in sigma]) if sigma.shape[0] else np.zeros((0, inj.n))
         out = np.zeros((sigma.shape[0], inj.n))
         for j, (s, m) in enumerate(zip(inj.starts, inj.mu, strict=True)):
             sj = sigma[:, j : j + 1]
@@ -289,7 +292,7 @@ class _BatchInjection:
 
     def implicit(self, lin: np.ndarray, meas_next: np.ndarray) -> np.ndarray:
         inj = self.inj
-        if lin.shape[0] < SCALAR_CHAINS_BELOW:  # few rows: the scalar solver costs less per row
+        if lin.shape[0] < SCALAR_CHAINS_BELOW or self.bihom:  # few rows: the scalar solver costs less per row
             return np.stack([inj.implicit(lin[k], meas_next[k]) for k in range(lin.shape[0])])
         lvec = np.zeros_like(lin)
         base = meas_next + lin @ self.RT  # σ with no injection at all
