@@ -25,9 +25,12 @@ def nf():
 
 needs_numba = pytest.mark.skipif(importlib.util.find_spec("numba") is None,
                                  reason="numba is not installed (pip install 'uio-ring[fast]')")
-# the step loop of injection terms: the Python one (vectorised over K; scalar below a row count)
-# and the compiled one (uio_ring.numeric.kernel)
-KERNELS = ["python", pytest.param("numba", marks=needs_numba)]
+
+
+def numba_case(*values):
+    """A case of the compiled step loop (uio_ring.numeric.kernel); the "python" cases run the
+    Python one (vectorised over K; the scalar solver below SCALAR_CHAINS_BELOW rows)."""
+    return pytest.param(*values, "numba", marks=needs_numba)
 
 
 def _w(a, f):
@@ -58,8 +61,9 @@ def test_batch_equals_separate_runs_delay_observer(zb, K):
         assert res.metrics["final"][k] == pytest.approx(e[-1], rel=1e-9)
 
 
-@pytest.mark.parametrize("kernel", KERNELS)
-@pytest.mark.parametrize("disc, scalar_below", [("implicit", 0), ("implicit", 100), ("explicit", 0), ("euler", 0)])
+@pytest.mark.parametrize("disc, scalar_below, kernel", [
+    ("implicit", 0, "python"), ("implicit", 100, "python"), ("explicit", 0, "python"), ("euler", 0, "python"),
+    numba_case("implicit", 0), numba_case("explicit", 0), numba_case("euler", 0)])
 def test_batch_equals_separate_runs_normal_form(nf, disc, scalar_below, kernel, monkeypatch):
     import uio_ring.sim.batch as batch
 
@@ -110,8 +114,7 @@ def test_bad_input(zb):
         simulate_batch(zb, [Scenario()], t_final=0.1, dt=3e-3)
 
 
-@pytest.mark.parametrize("kernel", KERNELS)
-@pytest.mark.parametrize("scalar_below", [0, 100])
+@pytest.mark.parametrize("scalar_below, kernel", [(0, "python"), (100, "python"), numba_case(0)])
 def test_batch_equals_separate_runs_hierarchical_sta(scalar_below, kernel, monkeypatch):
     """Chains coupled through sigma_xi (the levels of a hierarchical super-twisting observer).
 
