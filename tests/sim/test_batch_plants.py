@@ -113,6 +113,26 @@ def test_stacked_integrator_is_each_integrator(method, N):
         np.testing.assert_allclose(X[s], Xs, rtol=1e-13, atol=1e-13 * np.max(np.abs(Xs)))
 
 
+@pytest.mark.parametrize("N", [1, 2, 3, 20, 37, 100])
+def test_time_major_integration_is_the_block_maps(N):
+    """BlockIntegrator.run_rows (time-major, per step) gives the numbers of run (the block maps
+    of its method) for S trajectories of one two-delay plant with inputs and end fixes."""
+    from uio_ring.numeric.progress import Progress
+
+    rng = np.random.default_rng(N)
+    S_, n, nb = 3, 2, 4
+    A = rng.normal(size=(3, n, n))
+    X = np.zeros((S_, 2 * N + nb * N + 1, n))
+    X[:, : 2 * N + 1] = rng.normal(size=(S_, 2 * N + 1, n))
+    fin = rng.normal(size=(S_, nb * N + 1, n))
+    fix = rng.normal(size=(S_, nb, n))
+    integ = BlockIntegrator(A, N, 0.01)
+    Xr = np.ascontiguousarray(X.transpose(1, 0, 2))
+    integ.run_rows(Xr, np.ascontiguousarray(fin.transpose(1, 0, 2)), nb, end_fix=fix)
+    integ.run(X, fin, nb, Progress(1, False), end_fix=fix)
+    np.testing.assert_allclose(Xr.transpose(1, 0, 2), X, rtol=1e-12, atol=1e-12 * np.max(np.abs(X)))
+
+
 def test_plants_must_match():
     base = paper001.system()
     des = design_zheng_bejarano(base, poles=[-10, -25, -50])

@@ -30,7 +30,7 @@ import numpy as np
 from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
 from uio_ring.numeric.progress import Progress
 
-__all__ = ["BlockIntegrator", "block_integrator", "block_stencils"]
+__all__ = ["BlockIntegrator", "block_integrator", "block_stencils", "scan_rows", "taps"]
 
 DENSE_MAX_ENTRIES = 6_000_000
 SUB_MAX = 32  # largest sub-block (steps)
@@ -90,6 +90,39 @@ def toeplitz_powers(Phi: np.ndarray, N: int) -> tuple[np.ndarray, np.ndarray]:
     T = np.where((D >= 0)[:, :, None, None], pows[np.clip(D, 0, N)], 0.0)  # (N, N, n, n)
     T = T.transpose(0, 2, 1, 3).reshape(N * n, N * n)
     return pows[1:], T
+
+
+def taps(wins: list[np.ndarray], mats: list[np.ndarray]) -> np.ndarray:
+    """``Σ_i wins[i] @ mats[i]`` over the rows of time-major windows ``(L, K, c)``: ``(L K, r)``.
+
+    One product per window, accumulated in place: the windows are views (no copy), and
+    products with a handful of columns cost less one by one than one product of the
+    windows laid side by side (measured: 3× on paper 001, K = 100).
+
+    >>> w = np.arange(6.0).reshape(3, 1, 2)
+    >>> taps([w[:2], w[1:]], [np.eye(2), 2 * np.eye(2)]).tolist()
+    [[4.0, 7.0], [10.0, 13.0]]
+    """
+    L, K = wins[0].shape[:2]
+    out = wins[0].reshape(L * K, -1) @ mats[0]
+    for w, m in zip(wins[1:], mats[1:], strict=True):
+        out += w.reshape(L * K, -1) @ m
+    return out
+
+
+def scan_rows(PhiT: np.ndarray, x0: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """``x_{j+1} = Φ x_j + g_j`` in place: ``G`` ``(M, K, n)`` (time-major, K columns per step)
+    becomes ``x_1 … x_M``; ``PhiT = Φᵀ``, ``x0`` ``(K, n)``.  One product per step carries the
+    K columns (for K ≳ 8 cheaper than a chunked scan, whose products grow with the chunk).
+
+    >>> G = np.zeros((3, 1, 1)); scan_rows(np.array([[0.5]]), np.array([[1.0]]), G)[:, 0, 0].tolist()
+    [0.5, 0.25, 0.125]
+    """
+    if G.shape[0]:
+        G[0] += x0 @ PhiT
+    for j in range(1, G.shape[0]):
+        G[j] += G[j - 1] @ PhiT
+    return G
 
 
 def _mm_shared(X: np.ndarray, M: np.ndarray) -> np.ndarray:
@@ -214,6 +247,49 @@ class BlockIntegrator:
         self.B = B
         self.SwT = out[:, :dw].T.copy()
         self.SfT = out[:, dw:].T.copy()
+
+    @property
+    def row_groups(self) -> list[tuple[int, int, list[int], list[np.ndarray]]]:
+        """Consecutive steps ``r0 … r1 − 1`` of a block with the same stencil nodes (relative to r):
+        ``(r0, r1, nodes, [W_qᵀ])`` — first step, last step + 1, the nodes and the weights."""
+        if not hasattr(self, "_row_groups"):
+            nodes = self.idx - np.arange(self.N)[:, None]
+            groups: list[tuple[int, int, list[int], list[np.ndarray]]] = []
+            r0 = 0
+            for r in range(1, self.N + 1):
+                if r == self.N or not np.array_equal(nodes[r], nodes[r0]):
+                    groups.append((r0, r, [int(q) for q in nodes[r0]], [w.T.copy() for w in self.W[r0]]))
+                    r0 = r
+            self._row_groups = groups
+        return self._row_groups
+
+    def run_rows(self, X: np.ndarray, fin: np.ndarray, nblocks: int, end_fix: np.ndarray | None = None) -> None:
+        """:meth:`run` for S trajectories of this plant, time-major: ``X`` ``(K N + nblocks N + 1, S, n)``,
+        ``fin`` ``(nblocks N + 1, S, n)``, ``end_fix`` ``(S, nblocks, n)``; filled in place.
+
+        Per block: the forcing on its N + 1 points (input plus delayed states, one product per
+        delay), its quadrature (one product per stencil node and group of steps with the same
+        nodes), then the N steps ``x_{r+1} = Φ x_r + g_r`` (:func:`scan_rows`): O(n²) per step
+        and trajectory, against O(m n²) for the sub-block maps of :meth:`run`.
+        """
+        N, K = self.N, self.K
+        S_, n = X.shape[1], self.n
+        AT = [self.A[i].T.copy() for i in range(1, K + 1)]
+        PhiT = self.Phi.T.copy()
+        groups = self.row_groups
+        KN = K * N
+        for k in range(nblocks):
+            a = k * N
+            F = fin[a : a + N + 1].copy()  # f on the block's points
+            if end_fix is not None:
+                F[N] += end_fix[:, k]
+            F2 = F.reshape((N + 1) * S_, n)
+            for i, Ai in enumerate(AT, start=1):
+                F2 += X[a + (K - i) * N : a + (K - i) * N + N + 1].reshape((N + 1) * S_, n) @ Ai
+            G = np.empty((N, S_, n))
+            for r0, r1, nodes, WT in groups:
+                G[r0:r1] = taps([F[r0 + q : r1 + q] for q in nodes], WT).reshape(r1 - r0, S_, n)
+            X[a + KN + 1 : a + KN + N + 1] = scan_rows(PhiT, X[a + KN], G)
 
     def step_block(self, window: np.ndarray, forcing: np.ndarray) -> np.ndarray:
         """One block from its window ``x((k−K) h) … x(k h)`` (``(K N + 1, n)``) and the input

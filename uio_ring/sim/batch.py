@@ -44,7 +44,7 @@ from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
 from uio_ring.numeric.history import sample_history
 from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.threads import blas_single_thread
-from uio_ring.sim._blocks import block_integrator
+from uio_ring.sim._blocks import StackedBlockIntegrator, block_integrator, scan_rows, taps
 from uio_ring.sim.plant import SystemArrays
 from uio_ring.sim.signals import UniformNoise, as_noise, input_samples
 
@@ -171,22 +171,12 @@ def _bsum(M: np.ndarray, S: np.ndarray, j0: int, j1: int, N: int, offset: int) -
     if not idx:
         return np.zeros((L, K, M.shape[-2]))
     wins = [S[offset + j0 - i * N : offset + j0 - i * N + L] for i in idx]
-    stacked = wins[0] if len(wins) == 1 else np.concatenate(wins, axis=2)
     if per:  # time-major (L, K, Σ cols) times (K, Σ cols, rows), one matrix per scenario
+        stacked = wins[0] if len(wins) == 1 else np.concatenate(wins, axis=2)
         Mst = np.concatenate([M[:, i].transpose(0, 2, 1) for i in idx], axis=1)
         return np.einsum("lkc,kcr->lkr", stacked, Mst, optimize=True)  # (measured: ~10× a transposed matmul)
-    Mst = np.concatenate([M[i].T for i in idx], axis=0)
-    return (stacked.reshape(L * K, -1) @ Mst).reshape(L, K, M.shape[1])
+    return taps(wins, [M[i].T for i in idx]).reshape(L, K, M.shape[1])
 
-
-def _scan_steps(Phi: np.ndarray, x0: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """``x_{j+1} = Φ x_j + g_j`` step by step, K columns per step (time-major ``g`` ``(M, K, n)``)."""
-    out = np.empty(g.shape)
-    x, PhiT = x0, Phi.T
-    for j in range(g.shape[0]):
-        x = x @ PhiT + g[j]
-        out[j] = x
-    return out
 
 
 def _scan_k(scan: LinearScan, x0: np.ndarray, g: np.ndarray) -> np.ndarray:
@@ -331,7 +321,10 @@ class _BatchPlant:
         self.KA, self.Kx, self.Kin = max(S.deg(S.A), 0), S.state_delay, S.input_delay
         self.integ = block_integrator(S.A, N, dt)
         hist = [sample_history(sc.x0, S.n_x, N=N, k=self.Kx, dt=dt, name="x0").T for sc in scenarios]
-        self.Xtail = np.stack(hist)  # rows j = b0 N − Kx N … b0 N
+        self.Xtail = np.stack(hist, axis=1)  # rows j = b0 N − Kx N … b0 N, time-major (rows, K, n)
+        #: time-major block integration (:meth:`~uio_ring.sim._blocks.BlockIntegrator.run_rows`): one
+        #: plant and blocks of more than SUPER_MAX_N steps (else the grouped block maps of ``run``)
+        self.rows = not isinstance(self.integ, StackedBlockIntegrator) and self.integ.method != "super"
         self.b0 = 0
         self.noise = [sc.noise_model() for sc in scenarios]
         self._cache: dict[str, tuple[int, int, np.ndarray]] = {}
@@ -389,8 +382,8 @@ class _BatchPlant:
         b0 = self.b0
         a0 = b0 * N
         KxN, KinN = self.Kx * N, self.Kin * N
-        X = np.empty((K, KxN + nb * N + 1, S.n_x))
-        X[:, : KxN + 1] = self.Xtail
+        X = np.empty((KxN + nb * N + 1, K, S.n_x))  # time-major: X[KxN + j − a0] = x(t_j)
+        X[: KxN + 1] = self.Xtail
         W = self._inputs("w", S.n_w, a0 - KinN, a0 + nb * N)
         U = self._inputs("u", S.n_u, a0 - KinN, a0 + nb * N)
         fin = _bsum(S.B, W, 0, nb * N, N, KinN) + _bsum(S.E, U, 0, nb * N, N, KinN)
@@ -400,12 +393,16 @@ class _BatchPlant:
             c = min(self.Kin - b0, nb)
             fix[:, :c] = self.end_fix[:, b0 : b0 + c]
         base = (self.Kx - self.KA) * N
-        with Progress(nb, False, "plant") as bar:
-            self.integ.run(X[:, base:], np.ascontiguousarray(fin.transpose(1, 0, 2)), nb, bar, end_fix=fix)
+        if self.rows:
+            self.integ.run_rows(X[base:], fin, nb, end_fix=fix)
+        else:  # the integrator's own layout, trajectory-major
+            Xk = np.ascontiguousarray(X[base:].transpose(1, 0, 2))
+            with Progress(nb, False, "plant") as bar:
+                self.integ.run(Xk, np.ascontiguousarray(fin.transpose(1, 0, 2)), nb, bar, end_fix=fix)
+            X[base:] = Xk.transpose(1, 0, 2)
         jlo = 0 if b0 == 0 else a0 + 1
         jhi = min(a0 + nb * N, self.n_steps)
-        self.Xtail = X[:, nb * N :].copy()
-        X = np.ascontiguousarray(X.transpose(1, 0, 2))  # time-major from here on
+        self.Xtail = X[nb * N :].copy()
         # rows of X: x(t_j) = X[KxN + j − a0]; of W, U: [KinN + j − a0]
         Y = (_bsum(S.C, X, jlo, jhi, N, KxN - a0) + _bsum(S.D, W, jlo, jhi, N, KinN - a0)
              + _bsum(S.F, U, jlo, jhi, N, KinN - a0))
@@ -431,6 +428,7 @@ class _BatchObserver:
         self.Lt = st.history_length + 1
         self.pad = max(st.lag * st.N, 0 if st.Wm is None else (st.Wm.shape[0] - 1) * st.N)
         self.scan = LinearScan(st.Phi, chunk=16) if st.inj is None else None
+        self.PhiT = st.Phi.T.copy()
         self.binj = None if st.inj is None else _BatchInjection(st.inj)
         self.Ytail: np.ndarray | None = None
         self.Utail = self.Ztail = self.xi = np.zeros(0)
@@ -479,7 +477,7 @@ class _BatchObserver:
         if self.binj is not None:
             Xi = self._loop(xi_prev, Fq, G, Yrows, Urows, off, steps, jlo)
         elif K >= 8 or steps.size <= 32:  # one small product per step carries K scenarios
-            Xi = _scan_steps(self.st.Phi, xi_prev, Fq)
+            Xi = scan_rows(self.PhiT, xi_prev, Fq)  # Fq is this segment's own array
         else:
             assert self.scan is not None  # linear models have one
             Xi = _scan_k(self.scan, xi_prev, np.ascontiguousarray(Fq.transpose(1, 0, 2))).transpose(1, 0, 2)
@@ -506,9 +504,8 @@ class _BatchObserver:
             return Fq.reshape(0, K, nz)
         g0 = int(steps[0]) - (jlo - 3)  # G index of g(t_j) for the first step
 
-        def stencil(shifts: tuple[int, ...], W: np.ndarray) -> np.ndarray:  # one product for all nodes
-            wins = np.concatenate([G[g0 + sh : g0 + sh + M] for sh in shifts], axis=2)
-            return wins.reshape(M * K, -1) @ np.concatenate([Wm.T for Wm in W], axis=0)
+        def stencil(shifts: tuple[int, ...], W: np.ndarray) -> np.ndarray:  # one product per node
+            return taps([G[g0 + sh : g0 + sh + M] for sh in shifts], [Wm.T for Wm in W])
 
         Wf = st.W_first
         if st.cubic:
