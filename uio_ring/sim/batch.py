@@ -563,6 +563,23 @@ class _BatchObserver:
 
 
 # ---------------------------------------------------------------------------------- metrics
+def _error_norm(X: np.ndarray, xh: np.ndarray) -> np.ndarray:
+    """``‖x − x̂‖_∞`` per sample of time-major ``(S, K, n)`` arrays: ``(S, K)`` (a maximum over a few
+    strided columns: a reduction over a short last axis costs ~10× more).
+
+    >>> _error_norm(np.array([[[1.0, -3.0]]]), np.zeros((1, 1, 2))).tolist()
+    [[3.0]]
+    """
+    if X.shape[2] == 0:
+        return np.zeros(X.shape[:2])
+    d = np.subtract(X, xh)
+    np.abs(d, out=d)
+    e = d[..., 0].copy()
+    for i in range(1, d.shape[2]):
+        np.maximum(e, d[..., i], out=e)  # NaN propagates, as in np.max
+    return e
+
+
 class _Metrics:
     """On-the-fly error metrics of K runs (see :data:`METRICS`)."""
 
@@ -782,8 +799,7 @@ def simulate_batch(
                 xh, wh = bo.segment(jlo, Y, U)
                 if on_segment is not None:
                     on_segment(Segment(t=np.arange(jlo, jhi + 1) * dtv, x=X, y=Y, w=W, u=U, x_hat=xh, w_hat=wh))
-                e = np.max(np.abs(X - xh), axis=2) if S.n_x else np.zeros(X.shape[:2])
-                met.update(jlo, e.T)
+                met.update(jlo, _error_norm(X, xh).T)
                 if trajectories:
                     keep.append((X, Y, xh, wh))
                 bar.update(bp.b0)
