@@ -33,7 +33,7 @@ scenario (up to rounding: ~1e-13 relative).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -45,6 +45,7 @@ from uio_ring.numeric.history import sample_history
 from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import StackedBlockIntegrator, block_integrator, scan_rows, taps
+from uio_ring.sim.engine import shifted, warm_steps
 from uio_ring.sim.plant import SystemArrays
 from uio_ring.sim.signals import UniformNoise, as_noise, input_samples
 
@@ -432,6 +433,13 @@ class _BatchObserver:
         self.binj = None if st.inj is None else _BatchInjection(st.inj)
         self.Ytail: np.ndarray | None = None
         self.Utail = self.Ztail = self.xi = np.zeros(0)
+        self.started = False
+        self.z0: np.ndarray | None = None
+
+    def start_exact(self, Yp: np.ndarray, Up: np.ndarray, z0: np.ndarray) -> None:
+        """Start from the true past (``exact_start``): y, u at ``j = −Lt … −1`` (time-major rows)
+        and ``ẑ(0)`` ``(K, n_z)``, instead of y held at y(0), u from its history and x̂(0)."""
+        self.Ytail, self.Utail, self.z0 = Yp, Up, z0
 
     def _xi0(self, Yrows: np.ndarray, Urows: np.ndarray, off: int) -> np.ndarray:
         st = self.st
@@ -439,6 +447,8 @@ class _BatchObserver:
         D0 = _bsum(st.Dy, Yrows, 0, 0, st.N, off)[0]
         if st.n_u:
             D0 = D0 + _bsum(st.Du, Urows, 0, 0, st.N, off)[0]
+        if self.z0 is not None:
+            return self.z0 - D0
         xi = np.zeros((K, st.n_z))
         n_init = st.model.initial.shape[1]
         for k, sc in enumerate(self.scen):
@@ -455,13 +465,13 @@ class _BatchObserver:
         Sn, K = Y.shape[0], Y.shape[1]
         if st.n_u == 0:
             U = np.zeros((Sn, K, 0))
-        first = self.Ytail is None
+        first, self.started = not self.started, True
         Yt: np.ndarray
         if self.Ytail is None:  # y held at y(0) before 0; u from its history (and one more row, never read)
             Yt = np.repeat(Y[:1], Lt, axis=0)
             Ut = np.concatenate([self.u_history[:1], self.u_history], axis=0)
         else:
-            Yt, Ut = self.Ytail, self.Utail
+            Yt, Ut = self.Ytail, self.Utail  # the previous segment's (or the true past: start_exact)
         Yrows = np.concatenate([Yt, Y], axis=0)  # Yrows[Lt + j − jlo] = y(t_j)
         Urows = np.concatenate([Ut, U], axis=0)
         off = Lt - jlo
@@ -698,6 +708,7 @@ def simulate_batch(
     progress: bool | None = None,
     on_segment: Callable[[Segment], None] | None = None,
     kernel: str | None = None,
+    exact_start: bool = False,
 ) -> BatchResult:
     """Run ``len(scenarios)`` scenarios of ``design`` in one vectorised call (one plant, or one per scenario).
 
@@ -737,6 +748,10 @@ def simulate_batch(
     kernel : str, optional
         Backend of the observer's step loop (injection terms), as in :func:`simulate_observer`:
         with numba, one compiled loop over the K scenarios and their steps.
+    exact_start : bool
+        As in :func:`simulate_observer`: every plant starts earlier (whole blocks of h; w and u
+        callables or None, shifted), and the observer gets the true past of y and u and its
+        exact initial state ``ẑ(0) = z_of_x(δ) x(0)`` (no ``x_hat0``).
 
     Returns
     -------
@@ -779,11 +794,20 @@ def simulate_batch(
         dtv = ph / round(ph / dtv)
     n_steps = step_count(as_float(t_final, "t_final"), dtv)
     K = len(scen)
+    s0, plant_scen = 0, scen  # s0: plant steps before t = 0 (exact_start)
+    if exact_start:
+        if any(sc.x_hat0 is not None for sc in scen):
+            raise SimulationError("give x_hat0 or exact_start=True, not both")
+        for sc in scen:
+            s0 = warm_steps(model, stepper, max(S.deg(S.C), 0), sc.w, sc.u)
+        stepper = type(stepper)(stepper.model, stepper.dt, guard_blocks=0, kernel=stepper.kernel_option)  # y smooth at 0
+        plant_scen = [replace(sc, w=shifted(sc.w, s0 * dtv), u=shifted(sc.u, s0 * dtv)) for sc in scen]
+    n_plant = n_steps + s0
     with blas_single_thread():
-        bp = _BatchPlant(S, ph, dtv, n_steps, scen)
+        bp = _BatchPlant(S, ph, dtv, n_plant, plant_scen)
         L = stepper.history_length
         uh = np.zeros((L, K, model.n_u))
-        if model.n_u:
+        if model.n_u and not exact_start:
             for k, sc in enumerate(scen):
                 uh[:, k] = input_samples(sc.u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=dtv, name="u").T
         bo = _BatchObserver(stepper, scen, uh)
@@ -792,18 +816,26 @@ def simulate_batch(
         width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4
         nb = _segment_blocks(K, bp.N, width, segment_steps)
         keep: list[tuple[Any, ...]] = []
-        total = -(-n_steps // bp.N) if n_steps else 1
+        total = -(-n_plant // bp.N) if n_plant else 1
         with Progress(total, want_progress(progress, n_steps * K), "batch") as bar, np.errstate(all="ignore"):
-            while bp.b0 == 0 or bp.b0 * bp.N < n_steps:
-                jlo, jhi, X, Y, W, U = bp.segment(nb)
-                xh, wh = bo.segment(jlo, Y, U)
+            while bp.b0 == 0 or bp.b0 * bp.N < n_plant:
+                jlo, jhi, X, Y, W, U = bp.segment(max(nb, -(-s0 // bp.N)) if bp.b0 == 0 else nb)
+                if s0 and not bo.started:  # the first segment reaches t = 0: the observer's true past
+                    q, Lt = s0 - jlo, bo.Lt
+                    Up = U[q - Lt : q] if stepper.n_u else np.zeros((Lt, K, 0))
+                    bo.start_exact(Y[q - Lt : q].copy(), Up.copy(), _bsum(model.z_of_x, X, 0, 0, stepper.N, q)[0])
+                    X, Y, W, U = X[q:], Y[q:], W[q:], U[q:]
+                    jlo = s0
+                jo = jlo - s0  # observer time: j = 0 at t = 0
+                xh, wh = bo.segment(jo, Y, U)
                 if on_segment is not None:
-                    on_segment(Segment(t=np.arange(jlo, jhi + 1) * dtv, x=X, y=Y, w=W, u=U, x_hat=xh, w_hat=wh))
-                met.update(jlo, _error_norm(X, xh).T)
+                    t = np.arange(jo, jo + X.shape[0]) * dtv
+                    on_segment(Segment(t=t, x=X, y=Y, w=W, u=U, x_hat=xh, w_hat=wh))
+                met.update(jo, _error_norm(X, xh).T)
                 if trajectories:
                     keep.append((X, Y, xh, wh))
                 bar.update(bp.b0)
-                if n_steps == 0:
+                if n_plant == 0:
                     break
     out: dict[str, Any] = {}
     if trajectories:

@@ -304,9 +304,25 @@ def _closed_loop(model: Any, stepper: Any, sys: Any, t_final: Any, dt: float, w:
     return _result(res, ObserverTrajectories(x_hat=XH, w_hat=WH, z=np.zeros((0, 0)), xi=np.zeros((0, 0))), stepper, model)
 
 
-def _warm(model: Any, stepper: Any, sys: Any, h: float, t_final: Any, w: Any, u: Any, x0: Any, nz: Any,
-          progress: bool | None) -> SimulationResult:
-    """Plant run from ``−t_warm``; the observer gets the true past and ``ẑ(0) = z_of_x(δ) x(0)``."""
+def shifted(f: Any, t0: float) -> Any:
+    """The signal ``t ↦ f(t − t0)`` (None stays None): an input of a run that starts ``t0`` earlier.
+
+    >>> float(shifted(lambda t: 2 * t, 1.0)(3.0)), shifted(None, 1.0)
+    (4.0, None)
+    """
+    return None if f is None else (lambda t: f(np.asarray(t) - t0))
+
+
+def warm_steps(model: Any, stepper: Any, c_degree: int, w: Any = None, u: Any = None) -> int:
+    """Steps of the plant before t = 0 for ``exact_start`` (whole blocks of the observer's h): enough
+    for ``ẑ(0) = z_of_x(δ) x(0)``, the observer's taps of y and u and the plant's output delays.
+    Checks the run allows an exact start (``z_of_x`` known; w, u callables or None).
+
+    >>> from uio_ring import DelaySystem, design_zheng_bejarano
+    >>> des = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None), poles=[-10])
+    >>> m = des.numeric(); warm_steps(m, m.stepper(0.1), 0)     # delay-free: blocks of one step
+    3
+    """
     if model.z_of_x is None:
         raise NotSupportedError(f"exact_start: the {model.method} model does not say how z depends on x")
     if w is not None and not callable(w):
@@ -314,15 +330,18 @@ def _warm(model: Any, stepper: Any, sys: Any, h: float, t_final: Any, w: Any, u:
     if u is not None and not callable(u):
         raise SimulationError("u: exact_start=True needs u as a callable of t (or None)")
     N, L = stepper.N, stepper.history_length
+    blocks = (model.z_of_x.shape[0] - 1) + stepper.Gy.shape[0] + stepper.Dy.shape[0] + c_degree + 1
+    return max(blocks, -(-L // N) + 1, stepper.guard_blocks + 1) * N
+
+
+def _warm(model: Any, stepper: Any, sys: Any, h: float, t_final: Any, w: Any, u: Any, x0: Any, nz: Any,
+          progress: bool | None) -> SimulationResult:
+    """Plant run from ``−t_warm``; the observer gets the true past and ``ẑ(0) = z_of_x(δ) x(0)``."""
     C = coefficient_arrays(sys.C, name="sys.C")
-    blocks = (model.z_of_x.shape[0] - 1) + stepper.Gy.shape[0] + stepper.Dy.shape[0] + max(C.shape[0] - 1, 0) + 1
-    blocks = max(blocks, -(-L // N) + 1, stepper.guard_blocks + 1)
-    s0 = blocks * N
+    s0 = warm_steps(model, stepper, max(C.shape[0] - 1, 0), w, u)
+    N, L = stepper.N, stepper.history_length
     t_warm = s0 * stepper.dt
-
-    def shift(f: Any) -> Any:
-        return None if f is None else (lambda t: f(np.asarray(t) - t_warm))
-
+    shift = lambda f: shifted(f, t_warm)  # noqa: E731
     full = plant_run(sys, h=h, t_final=as_float(t_final, "t_final") + t_warm, dt=stepper.dt, w=shift(w),
                      u=shift(u), x0=x0, noise=nz, progress=progress)
     z0 = delayed_sum(model.z_of_x, full.x.T, 0, 0, N, s0)[0]
@@ -333,7 +352,7 @@ def _warm(model: Any, stepper: Any, sys: Any, h: float, t_final: Any, w: Any, u:
         unknown_input_names=full.unknown_input_names, known_input_names=full.known_input_names,
         noise=None if full.noise is None else full.noise[:, sl],
     )
-    exact = type(stepper)(model, stepper.dt, guard_blocks=0, kernel=stepper.kernel_option)  # the plant's break points lie before 0
+    exact = type(stepper)(stepper.model, stepper.dt, guard_blocks=0, kernel=stepper.kernel_option)  # break points before 0
     traj = exact.trajectories(res.y, res.u if model.n_u else None, z0=z0,
                               y_history=full.y[:, s0 - L : s0], u_history=full.u[:, s0 - L : s0] if model.n_u else None)
     return _result(res, traj, exact, model)
