@@ -32,7 +32,7 @@ scenario (up to rounding: ~1e-13 relative).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -660,6 +660,25 @@ class _Metrics:
 
 
 # ---------------------------------------------------------------------------------- driver
+def _open_loop(bp: _BatchPlant, bo: _BatchObserver, nb: int, s0: int,
+               z_of_x: np.ndarray | None) -> Iterator[tuple[int, tuple[Any, ...]]]:
+    """Segments ``(j0, (X, Y, W, U, x̂, ŵ))`` of an open-loop batch, ``j0`` in observer time (0 at
+    t = 0); the plant runs ``s0`` steps before t = 0 for ``exact_start`` (then ``z_of_x`` is given)."""
+    K = len(bp.scen)
+    while bp.b0 == 0 or bp.b0 * bp.N < bp.n_steps:
+        jlo, _, X, Y, W, U = bp.segment(max(nb, -(-s0 // bp.N)) if bp.b0 == 0 else nb)
+        if s0 and not bo.started:  # the first segment reaches t = 0: the observer's true past
+            assert z_of_x is not None  # exact_start checked it (warm_steps)
+            q, Lt = s0 - jlo, bo.Lt
+            Up = U[q - Lt : q] if bo.st.n_u else np.zeros((Lt, K, 0))
+            bo.start_exact(Y[q - Lt : q].copy(), Up.copy(), _bsum(z_of_x, X, 0, 0, bo.st.N, q)[0])
+            X, Y, W, U = X[q:], Y[q:], W[q:], U[q:]
+            jlo = s0
+        yield jlo - s0, (X, Y, W, U) + bo.segment(jlo - s0, Y, U)
+        if bp.n_steps == 0:
+            break
+
+
 def _segment_blocks(K: int, N: int, width: int, segment_steps: int | None) -> int:
     """Blocks per segment: about 2²⁰ floats per (steps, K, width) array unless told (measured on
     paper 001, K = 100: segments that fit the cache run up to twice as fast as long ones)."""
@@ -709,6 +728,7 @@ def simulate_batch(
     on_segment: Callable[[Segment], None] | None = None,
     kernel: str | None = None,
     exact_start: bool = False,
+    feedback: Callable[[float, np.ndarray, np.ndarray | None], Any] | None = None,
 ) -> BatchResult:
     """Run ``len(scenarios)`` scenarios of ``design`` in one vectorised call (one plant, or one per scenario).
 
@@ -752,6 +772,11 @@ def simulate_batch(
         As in :func:`simulate_observer`: every plant starts earlier (whole blocks of h; w and u
         callables or None, shifted), and the observer gets the true past of y and u and its
         exact initial state ``ẑ(0) = z_of_x(δ) x(0)`` (no ``x_hat0``).
+    feedback : callable, optional
+        Closed loop, as in :func:`simulate_observer` (delay-free plants, u held over each step):
+        ``feedback(t, x_hat, w_hat) -> u`` with one row per scenario — ``x_hat`` ``(K, n_x)``,
+        ``w_hat`` ``(K, n_w)`` or None, ``u`` ``(K, n_u)`` — called once per step for all K
+        (:mod:`uio_ring.sim.batch_loop`; observers without delayed taps; scenarios give no u).
 
     Returns
     -------
@@ -766,8 +791,8 @@ def simulate_batch(
     DimensionError
         Scenario plants whose matrices differ from ``plant``'s in size or delay degree.
 
-    Closed-loop runs (``feedback``) and ``exact_start`` are not batched: use
-    :func:`simulate_observer`.
+    A closed loop steps plant and observer together, one step at a time for all K scenarios
+    (one call of ``feedback`` per step); an open loop runs by segments of whole blocks.
     """
     sys = plant if plant is not None else getattr(design, "system", None)
     if sys is None:
@@ -795,6 +820,8 @@ def simulate_batch(
     n_steps = step_count(as_float(t_final, "t_final"), dtv)
     K = len(scen)
     s0, plant_scen = 0, scen  # s0: plant steps before t = 0 (exact_start)
+    if exact_start and feedback is not None:
+        raise SimulationError("exact_start is for open-loop runs (no feedback)")
     if exact_start:
         if any(sc.x_hat0 is not None for sc in scen):
             raise SimulationError("give x_hat0 or exact_start=True, not both")
@@ -802,12 +829,17 @@ def simulate_batch(
             s0 = warm_steps(model, stepper, max(S.deg(S.C), 0), sc.w, sc.u)
         stepper = type(stepper)(stepper.model, stepper.dt, guard_blocks=0, kernel=stepper.kernel_option)  # y smooth at 0
         plant_scen = [replace(sc, w=shifted(sc.w, s0 * dtv), u=shifted(sc.u, s0 * dtv)) for sc in scen]
+    if feedback is not None:
+        from uio_ring.sim.batch_loop import check_closed_loop
+
+        check_closed_loop(S, stepper, scen)
+        ph = dtv  # a delay-free plant: one step a block
     n_plant = n_steps + s0
     with blas_single_thread():
         bp = _BatchPlant(S, ph, dtv, n_plant, plant_scen)
         L = stepper.history_length
         uh = np.zeros((L, K, model.n_u))
-        if model.n_u and not exact_start:
+        if model.n_u and not exact_start and feedback is None:
             for k, sc in enumerate(scen):
                 uh[:, k] = input_samples(sc.u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=dtv, name="u").T
         bo = _BatchObserver(stepper, scen, uh)
@@ -815,28 +847,22 @@ def simulate_batch(
         met = _Metrics(K, dtv, tolv, divv, tf / 2 if settle is None else float(settle))
         width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4
         nb = _segment_blocks(K, bp.N, width, segment_steps)
+        if feedback is None:
+            segments = _open_loop(bp, bo, nb, s0, model.z_of_x)
+        else:
+            from uio_ring.sim.batch_loop import ClosedLoop
+
+            segments = ClosedLoop(bp, bo, bo.binj, feedback).segments(n_steps, nb * bp.N)
         keep: list[tuple[Any, ...]] = []
-        total = -(-n_plant // bp.N) if n_plant else 1
-        with Progress(total, want_progress(progress, n_steps * K), "batch") as bar, np.errstate(all="ignore"):
-            while bp.b0 == 0 or bp.b0 * bp.N < n_plant:
-                jlo, jhi, X, Y, W, U = bp.segment(max(nb, -(-s0 // bp.N)) if bp.b0 == 0 else nb)
-                if s0 and not bo.started:  # the first segment reaches t = 0: the observer's true past
-                    q, Lt = s0 - jlo, bo.Lt
-                    Up = U[q - Lt : q] if stepper.n_u else np.zeros((Lt, K, 0))
-                    bo.start_exact(Y[q - Lt : q].copy(), Up.copy(), _bsum(model.z_of_x, X, 0, 0, stepper.N, q)[0])
-                    X, Y, W, U = X[q:], Y[q:], W[q:], U[q:]
-                    jlo = s0
-                jo = jlo - s0  # observer time: j = 0 at t = 0
-                xh, wh = bo.segment(jo, Y, U)
+        with Progress(n_steps + 1, want_progress(progress, n_steps * K), "batch") as bar, np.errstate(all="ignore"):
+            for jo, (X, Y, W, U, xh, wh) in segments:
                 if on_segment is not None:
                     t = np.arange(jo, jo + X.shape[0]) * dtv
                     on_segment(Segment(t=t, x=X, y=Y, w=W, u=U, x_hat=xh, w_hat=wh))
                 met.update(jo, _error_norm(X, xh).T)
                 if trajectories:
                     keep.append((X, Y, xh, wh))
-                bar.update(bp.b0)
-                if n_plant == 0:
-                    break
+                bar.update(jo + X.shape[0])
     out: dict[str, Any] = {}
     if trajectories:
         for i, name in enumerate(("x", "y", "x_hat", "w_hat")):
