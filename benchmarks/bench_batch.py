@@ -13,6 +13,10 @@ Problems
         ``M ∘ (1 + 0.05 R)`` (``perturbed_plant``, one seed each), one plant per scenario
         (``Scenario(plant=…)``): the K plants are integrated together (stacked block maps).
 
+    aircraft closed loop: paper 000's Simulation 2 (the observer reconstructs w, gains (95))
+        with the feedback u = −[K h] χ̂ of (96), ``simulate_batch(feedback=…)`` (the law
+        called once per step with the K estimates as rows) against ``simulate_observer(feedback=…)``.
+
 What is timed
     batch   simulate_batch(design, K scenarios, t_final, dt) — plant + observer + metrics,
             no trajectories kept (bounded memory); CPU time (time.process_time, the machine may be
@@ -124,6 +128,30 @@ def bench_plants(K, t_final, dt, n_single):
           f"speed-up {rate_b / rate_1:.1f})")
 
 
+def closed_loop_case(K: int, rng: np.random.Generator):
+    from fractions import Fraction
+
+    des = design_normal_form(paper000.aircraft(), ["0.046"], reconstruct_input=True, gains=paper000.GAINS_95)
+    gain = np.array([[float(Fraction(x)) for x in r] for r in paper000.K_97])
+
+    def law(t, x_hat, w_hat):  # (96) for K rows at once
+        return -x_hat @ gain.T - w_hat[:, :1] * np.array([1.0, 0.0])
+
+    def w(a):
+        return lambda t: 0.008 + a * np.sin(2 * t)
+
+    scen = [Scenario(x0=np.array(paper000.X0) * rng.uniform(0.5, 1.5), w=w(rng.uniform(0, 0.01))) for _ in range(K)]
+    return des, scen, {"feedback": law}
+
+
+def _single_options(opts):
+    """simulate_observer's options for one scenario (a batch law becomes a law of one row)."""
+    law = opts.get("feedback")
+    if law is None:
+        return opts
+    return {**opts, "feedback": lambda t, x, w: law(t, x[None], None if w is None else w[None])[0]}
+
+
 def bench(name, case, K, t_final, dt, n_single, kernel=None):
     des, scen, opts = case(K, np.random.default_rng(0))
     if kernel is not None:
@@ -136,7 +164,8 @@ def bench(name, case, K, t_final, dt, n_single, kernel=None):
     def one_at_a_time():
         singles.clear()
         for s in scen[:n_single]:
-            singles.append(simulate_observer(des, t_final=t_final, dt=dt, w=s.w, x0=s.x0, check=False, **opts))
+            singles.append(simulate_observer(des, t_final=t_final, dt=dt, w=s.w, x0=s.x0, check=False,
+                                             **_single_options(opts)))
 
     el_s, _ = best(one_at_a_time, clock=time.process_time)
     dev = max(float(np.max(np.abs(r.x_hat - traj.x_hat[k])) / np.max(np.abs(r.x))) for k, r in enumerate(singles))
@@ -161,6 +190,7 @@ def main() -> None:
     bench("paper 001 (ZB, dt=1e-3)", paper001_case, K, 0.5 if args.quick else 5.0, 1e-3, 2 if args.quick else 4)
     for kern in kernels():
         bench(f"aircraft (NF, implicit, {kern})", aircraft_case, K, 0.02 if args.quick else 0.5, 1e-4, 2, kernel=kern)
+    bench("aircraft closed loop (NF)", closed_loop_case, K, 0.02 if args.quick else 0.2, 2e-4, 2)
     print("K perturbed plants of paper 001 (one plant per scenario), CPU time; single = one call per plant")
     bench_plants(K, 0.1 if args.quick else 1.0, 1e-4, 2 if args.quick else 4)
     bench_plants(K, 0.5 if args.quick else 5.0, 1e-3, 2 if args.quick else 4)

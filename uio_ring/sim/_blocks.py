@@ -21,6 +21,12 @@ Two evaluations of the same map:
   ``x[(k−K)N … kN]`` (K = deg A) — one ``matvec`` per block, O(N n²) per step;
 * *chunked* (large N): per block, delayed forcing, quadrature, and a
   :class:`~uio_ring.numeric.expint.LinearScan`.
+
+Batches of S trajectories of one plant also run time-major (:meth:`BlockIntegrator.run_rows`,
+arrays ``(steps, S, n)``): per block the forcing on its points and its quadrature (one
+product per delay and stencil node over all points and trajectories), then one
+``(S, n) @ (n, n)`` product per step — O(n²) per step and trajectory instead of the
+O(m n²) of the sub-block maps, with S rows to carry each product's overhead.
 """
 
 from __future__ import annotations

@@ -2,9 +2,10 @@
 
 K scenarios (each with its own initial state or history, unknown input w, known
 input u, output noise and seed, initial estimate, and optionally its own plant)
-share the observer, so every block product of the plant integrator
-(:class:`~uio_ring.sim._blocks.BlockIntegrator`, batch axis) and every step of the
-observer has K rows.  With one plant per scenario (``Scenario(plant=…)``: perturbed
+share the observer, so every product of the plant integrator
+(:class:`~uio_ring.sim._blocks.BlockIntegrator`: time-major, one ``(K, n) @ (n, n)``
+product per step, ``run_rows``; blocks of at most 16 steps by grouped block maps) and
+every step of the observer has K rows.  With one plant per scenario (``Scenario(plant=…)``: perturbed
 matrices of the same sizes, delay degrees and h), the plant's block maps are stacked
 (:class:`~uio_ring.sim._blocks.StackedBlockIntegrator`: one matrix exponential and
 φ-function table per plant, one batched product ``X[k] @ M[k]`` per block over the K
@@ -18,7 +19,10 @@ the observer carry only the tails they read (the delays, the stencils) from one
 segment to the next, so memory stays bounded for long horizons.  Error metrics are
 accumulated on the fly; full trajectories are kept only with ``trajectories=True``.
 The numbers are those of :func:`~uio_ring.sim.engine.simulate_observer` run once per
-scenario (up to rounding: ~1e-13 relative).
+scenario, ``exact_start`` and closed loops (``feedback``, :mod:`uio_ring.sim.batch_loop`)
+included, up to rounding: ~1e-14 relative in x and y, ≲ 1e-12 in x̂ (which reads
+differences of y).  One plant delay per batch (``plant_h``): another delay is another
+block length of the plant integrator.
 
 >>> import numpy as np
 >>> from uio_ring import DelaySystem, design_zheng_bejarano
@@ -382,6 +386,7 @@ class _BatchPlant:
         K = len(self.scen)
         b0 = self.b0
         a0 = b0 * N
+        nb = max(1, min(nb, -(-(self.n_steps - a0) // N)))  # not past the horizon
         KxN, KinN = self.Kx * N, self.Kin * N
         X = np.empty((KxN + nb * N + 1, K, S.n_x))  # time-major: X[KxN + j − a0] = x(t_j)
         X[: KxN + 1] = self.Xtail
@@ -748,6 +753,10 @@ def simulate_batch(
     plant_h : float, optional
         The plant's true delay (default: the design's h).  ``plant_h ≠ h`` simulates a
         delay mismatch: the observer still reads its taps at multiples of the design's h.
+        One value per batch: the plant integrator advances blocks of ``plant_h / dt`` steps
+        whose stencils stay inside each block (the derivative jumps of a delay system sit at
+        multiples of its delay), so plants of other delays are other recursions, even when
+        dt divides every delay; sweeps run one batch per ``h_true``.
     tol : float
         Tolerance of the convergence time (on ``‖x − x̂‖_∞``).
     diverge : float
