@@ -4,6 +4,7 @@ each on its own (perturbed) plant."""
 from __future__ import annotations
 
 import sys as _sys
+from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
 
@@ -158,3 +159,42 @@ def test_perturbed_plant_arrays_mixed_with_the_design_plant():
     _check(des, [(base if p is None else p, s) for p, s in zip(plants, sc, strict=True)], res, t_final=0.2, dt=5e-4)
     assert np.array_equal(res.x[0], res.x[1])  # the batch's plant is the design's
     assert not np.allclose(res.y[2], res.y[1], rtol=1e-3)  # same x0 and w, another plant
+
+
+@pytest.mark.parametrize("dt, exact", [(1e-3, False), (2.5e-4, False), (1e-3, True)])  # plant blocks of 10–12
+def test_plants_of_several_delays_in_one_batch(dt, exact):  # steps (grouped maps), 40–48 (time-major)
+    """Scenario(plant_h=…): the plants of each true delay integrated together, the one observer on
+    all of them — the numbers of one batch per delay; another delay changes the run."""
+    from uio_ring.sim.plant import perturbed_plant
+
+    base = paper001.system()
+    des = design_zheng_bejarano(base, poles=[-10, -25, -50])
+    rng = np.random.default_rng(5)
+    hs = [None, 0.011, 0.012, 0.011, None, 0.012]
+    sc = [Scenario(x0=rng.normal(size=4), w=_w(rng.uniform(1, 5), rng.uniform(10, 50)), plant_h=h,
+                   plant=perturbed_plant(base, 0.05, k) if k == 3 else None) for k, h in enumerate(hs)]
+    res = simulate_batch(des, sc, t_final=0.15, dt=dt, trajectories=True, segment_steps=50, exact_start=exact)
+    for h in (None, 0.011, 0.012):
+        ks = [k for k, hk in enumerate(hs) if hk == h]
+        one = simulate_batch(des, [sc[k] for k in ks], plant_h=h, t_final=0.15, dt=dt, trajectories=True,
+                             exact_start=exact)
+        for name, rel in (("x", 1e-13), ("y", 1e-13), ("x_hat", 1e-11)):  # x̂ differentiates y: last bits × ~100
+            ref = getattr(one, name)
+            assert np.max(np.abs(getattr(res, name)[ks] - ref)) <= rel * np.max(np.abs(ref)), (h, name)
+        for m, v in res.metrics.items():  # errors to the rounding of x (an exact start's are ~1e-9)
+            np.testing.assert_allclose(v[ks], one.metrics[m], rtol=1e-9, atol=1e-12 * np.max(np.abs(one.x)), err_msg=m)
+    same = simulate_batch(des, [Scenario(x0=sc[2].x0, w=sc[2].w)], t_final=0.15, dt=dt, trajectories=True,
+                          exact_start=exact)
+    assert np.max(np.abs(same.x[0] - res.x[2])) > 1e-3  # h = 0.012 is another plant than h = 0.01
+
+
+def test_one_delay_of_the_scenarios_is_the_batch_delay():
+    """Every scenario with the same plant_h: the batch's plant_h (one group)."""
+    des = design_zheng_bejarano(paper001.system(), poles=[-10, -25, -50])
+    sc = Scenario(x0=[1.0, 0.0, 0.0, 0.0], w=_w(2.0, 30.0))
+    a = simulate_batch(des, [replace(sc, plant_h=0.012)] * 2, t_final=0.1, dt=1e-3, trajectories=True)
+    b = simulate_batch(des, [sc], plant_h=0.012, t_final=0.1, dt=1e-3, trajectories=True)
+    np.testing.assert_allclose(a.x[1], b.x[0], rtol=0, atol=1e-13 * np.max(np.abs(b.x)))
+    np.testing.assert_allclose(a.x_hat[0], b.x_hat[0], rtol=0, atol=1e-11 * np.max(np.abs(b.x)))
+    c = simulate_batch(des, [sc], t_final=0.1, dt=1e-3, trajectories=True)  # h = 0.01: another plant
+    assert np.max(np.abs(c.x[0] - b.x[0])) > 1e-3

@@ -21,8 +21,8 @@ accumulated on the fly; full trajectories are kept only with ``trajectories=True
 The numbers are those of :func:`~uio_ring.sim.engine.simulate_observer` run once per
 scenario, ``exact_start`` and closed loops (``feedback``, :mod:`uio_ring.sim.batch_loop`)
 included, up to rounding: ~1e-14 relative in x and y, ≲ 1e-12 in x̂ (which reads
-differences of y).  One plant delay per batch (``plant_h``): another delay is another
-block length of the plant integrator.
+differences of y).  Plants of different true delays (``Scenario(plant_h=…)``) are
+integrated in groups, one per delay (its own block length), for the one observer.
 
 >>> import numpy as np
 >>> from uio_ring import DelaySystem, design_zheng_bejarano
@@ -95,7 +95,8 @@ class Scenario:
     ``x0`` (vector, callable history or samples), ``w``, ``u`` (callables of t, constant
     vectors or samples on the grid), ``noise`` (output-noise amplitude, a number or one
     per output; uniform, seeded with ``seed``, default 0), ``x_hat0`` (initial estimate),
-    ``plant`` (this run's plant, e.g. a perturbed one; default: the batch's plant).
+    ``plant`` (this run's plant, e.g. a perturbed one; default: the batch's plant),
+    ``plant_h`` (this run's true delay; default: the batch's ``plant_h``).
     """
 
     x0: Any = None
@@ -105,6 +106,7 @@ class Scenario:
     seed: int | None = None
     x_hat0: Any = None
     plant: Any = None
+    plant_h: Any = None
 
     def noise_model(self) -> UniformNoise | None:
         nz = as_noise(self.noise)
@@ -665,7 +667,60 @@ class _Metrics:
 
 
 # ---------------------------------------------------------------------------------- driver
-def _open_loop(bp: _BatchPlant, bo: _BatchObserver, nb: int, s0: int,
+def _delay_groups(scen: Sequence[Scenario], ph: float, delay_model: bool) -> list[tuple[float, list[int]]]:
+    """Scenarios by the plant's true delay (``Scenario.plant_h``, default ``ph``): ``(h, indices)``
+    in order of first appearance."""
+    groups: list[tuple[float, list[int]]] = []
+    for k, sc in enumerate(scen):
+        if sc.plant_h is None:
+            h = ph
+        elif not delay_model:
+            raise SimulationError(f"scenario {k}: plant_h is for observers with delays (the design's h)")
+        else:
+            h = as_float(sc.plant_h, "plant_h")
+        for hg, ks in groups:
+            if _same_h(h, hg):
+                ks.append(k)
+                break
+        else:
+            groups.append((h, [k]))
+    return groups
+
+
+class _PlantGroups:
+    """Plants of different true delays in one batch: one :class:`_BatchPlant` per delay (its own
+    blocks), their samples put side by side in scenario order; :meth:`segment` as
+    :meth:`_BatchPlant.segment`, in blocks of the first group's N (each group integrates whole
+    blocks of its own and keeps what it has beyond the samples handed out)."""
+
+    def __init__(self, plants: list[_BatchPlant], cols: list[list[int]], scenarios: Sequence[Scenario]):
+        self.plants, self.cols, self.scen = plants, [np.array(c) for c in cols], scenarios
+        self.N, self.n_steps, self.b0 = plants[0].N, plants[0].n_steps, 0
+        self.S = plants[0].S
+        self.buf: list[list[np.ndarray] | None] = [None] * len(plants)  # rows from self.j on: X, Y, W, U
+        self.j = 0  # first sample not handed out
+
+    def segment(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        jlo = self.j
+        jhi = min((self.b0 + nb) * self.N, self.n_steps)
+        K = len(self.scen)
+        out: list[np.ndarray] = []
+        for g, (bp, cols) in enumerate(zip(self.plants, self.cols, strict=True)):
+            buf = self.buf[g]
+            while buf is None or jlo + buf[0].shape[0] - 1 < jhi:
+                _, _, *new = bp.segment(max(1, -(-(jhi - bp.b0 * bp.N) // bp.N)))
+                buf = new if buf is None else [np.concatenate([a, b], axis=0) for a, b in zip(buf, new, strict=True)]
+            rows = jhi - jlo + 1
+            if not out:
+                out = [np.empty((rows, K) + a.shape[2:]) for a in buf]
+            for o, a in zip(out, buf, strict=True):
+                o[:, cols] = a[:rows]
+            self.buf[g] = [a[rows:] for a in buf]
+        self.j, self.b0 = jhi + 1, self.b0 + nb
+        return jlo, jhi, out[0], out[1], out[2], out[3]
+
+
+def _open_loop(bp: _BatchPlant | _PlantGroups, bo: _BatchObserver, nb: int, s0: int,
                z_of_x: np.ndarray | None) -> Iterator[tuple[int, tuple[Any, ...]]]:
     """Segments ``(j0, (X, Y, W, U, x̂, ŵ))`` of an open-loop batch, ``j0`` in observer time (0 at
     t = 0); the plant runs ``s0`` steps before t = 0 for ``exact_start`` (then ``z_of_x`` is given)."""
@@ -753,10 +808,10 @@ def simulate_batch(
     plant_h : float, optional
         The plant's true delay (default: the design's h).  ``plant_h ≠ h`` simulates a
         delay mismatch: the observer still reads its taps at multiples of the design's h.
-        One value per batch: the plant integrator advances blocks of ``plant_h / dt`` steps
-        whose stencils stay inside each block (the derivative jumps of a delay system sit at
-        multiples of its delay), so plants of other delays are other recursions, even when
-        dt divides every delay; sweeps run one batch per ``h_true``.
+        Scenarios may have their own (``Scenario(plant_h=…)``; dt must divide each): the
+        plants of each delay are integrated together (blocks of ``plant_h / dt`` steps, whose
+        stencils stay inside each block: the derivative jumps of a delay system sit at
+        multiples of its delay), their samples side by side for the one observer.
     tol : float
         Tolerance of the convergence time (on ``‖x − x̂‖_∞``).
     diverge : float
@@ -843,9 +898,19 @@ def simulate_batch(
 
         check_closed_loop(S, stepper, scen)
         ph = dtv  # a delay-free plant: one step a block
+    groups = _delay_groups(scen, ph, model.h is not None)
+    if feedback is not None and len(groups) > 1:
+        raise SimulationError("plant_h: a closed loop runs delay-free plants (one h)")
     n_plant = n_steps + s0
     with blas_single_thread():
-        bp = _BatchPlant(S, ph, dtv, n_plant, plant_scen)
+        bp: _BatchPlant | _PlantGroups
+        if len(groups) == 1:
+            ph = groups[0][0]
+            bp = _BatchPlant(S, ph, dtv, n_plant, plant_scen)
+        else:
+            bp = _PlantGroups([_BatchPlant(_plant_arrays(sys, [plant_scen[k] for k in ks]), h, dtv, n_plant,
+                                           [plant_scen[k] for k in ks]) for h, ks in groups],
+                              [ks for _, ks in groups], plant_scen)
         L = stepper.history_length
         uh = np.zeros((L, K, model.n_u))
         if model.n_u and not exact_start and feedback is None:

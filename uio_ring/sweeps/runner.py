@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from uio_ring.errors import SpecError, require
+from uio_ring.numeric.grid import steps_per_delay
 from uio_ring.sim.plant import perturbed_plant
 from uio_ring.sweeps.spec import Chunk, Run, SweepSpec, load_sweep
 
@@ -92,7 +93,7 @@ def _w_signal(spec: Any, p: dict[str, Any], seed: int, n_w: int, t_final: float)
     return pwc
 
 
-def _scenario(spec: Any, run: Run, n_x: int, n_w: int, plant: Any = None) -> Any:
+def _scenario(spec: Any, run: Run, n_x: int, n_w: int, plant: Any = None, plant_h: Any = None) -> Any:
     from uio_ring.sim.batch import Scenario
     from uio_ring.sim.signals import UniformNoise
 
@@ -111,7 +112,7 @@ def _scenario(spec: Any, run: Run, n_x: int, n_w: int, plant: Any = None) -> Any
     noise = None if amp is None else UniformNoise(amp, seed=seed)
     x_hat0 = None if sim.x_hat0 is None else [float(v) for v in sim.x_hat0]
     return Scenario(x0=x0, w=_w_signal(spec, p, run.seed, n_w, float(sim.t_final)), u=sim.signal("u"),
-                    noise=noise, x_hat0=x_hat0, plant=plant)
+                    noise=noise, x_hat0=x_hat0, plant=plant, plant_h=plant_h)
 
 
 def _row(run: Run, chunk: int, axes: Sequence[str], metrics: dict[str, float], gain: float, error: str) -> dict:
@@ -156,14 +157,16 @@ def run_chunk(task: dict[str, Any]) -> list[dict[str, Any]]:
         try:
             plant = perturbed_plant(spec.system, float(r.params.get("perturbation", 0.0)),
                            int(r.params.get("perturbation_seed", 0)))
-            scen.append(_scenario(spec, r, spec.system.n_x, spec.system.n_w, plant))
+            h_true = r.params.get("h_true")
+            if h_true is not None:
+                steps_per_delay(float(h_true), float(sim.dt))  # a grid that does not fit: this run's error
+            scen.append(_scenario(spec, r, spec.system.n_x, spec.system.n_w, plant, h_true))
             good.append(r)
         except Exception as exc:  # noqa: BLE001
             rows[r.run] = _row(r, chunk.index, axes, {}, gain, f"{type(exc).__name__}: {exc}")
     if good:
         try:
-            h_true = p0.get("h_true")
-            res = simulate_batch(design, scen, plant=spec.system, plant_h=h_true, t_final=float(sim.t_final),
+            res = simulate_batch(design, scen, plant=spec.system, t_final=float(sim.t_final),
                                  dt=float(sim.dt), tol=task["tol"], diverge=task["diverge"],
                                  settle=None if sim.settle is None else float(sim.settle),
                                  discretisation=p0.get("discretisation", sim.discretisation))

@@ -49,8 +49,8 @@ from uio_ring.errors import SpecError
 
 __all__ = ["SweepSpec", "Run", "Chunk", "load_sweep", "sweep_from_dict", "RUN_AXES", "PLANT_AXES"]
 
-#: Axes that change the plant or the design: runs that differ in ``h_true`` or the design are in
-#: different chunks; the perturbation axes are per scenario (:data:`PER_SCENARIO_PLANT_AXES`).
+#: Axes that change the plant or the design: runs that differ in the design are in different
+#: chunks; the plant axes are per scenario (:data:`PER_SCENARIO_PLANT_AXES`).
 PLANT_AXES = {
     "h_true": "the plant's true delay (the observer keeps the design's h): delay mismatch",
     "perturbation": "relative size ε of the plant-matrix perturbation M ∘ (1 + ε R), R uniform in [−1, 1]",
@@ -58,9 +58,10 @@ PLANT_AXES = {
     "method": "the design method (registry name)",
     "discretisation": "of injection terms: implicit, explicit, euler",
 }
-#: Plant axes that change the plant's matrices only: runs that differ only in them (and in
-#: :data:`RUN_AXES`) share a chunk, one plant per scenario of the batch.
-PER_SCENARIO_PLANT_AXES = ("perturbation", "perturbation_seed")
+#: Plant axes: runs that differ only in them (and in :data:`RUN_AXES`) share a chunk, one plant
+#: per scenario of the batch (its matrices; its true delay: the plants of each ``h_true`` are
+#: integrated together, the one observer runs on all).
+PER_SCENARIO_PLANT_AXES = ("perturbation", "perturbation_seed", "h_true")
 #: Axes that change one scenario of a batch.
 
 RUN_AXES = {
@@ -183,15 +184,15 @@ class Run:
     params: dict[str, Any]
 
     def design_key(self) -> str:
-        """Runs with the same key share the design and the plant's grid (h_true): one batch,
-        whatever their plant perturbations (:data:`PER_SCENARIO_PLANT_AXES`, one plant per scenario)."""
+        """Runs with the same key share the design: one batch, whatever their plant perturbations
+        and true delays (:data:`PER_SCENARIO_PLANT_AXES`, one plant per scenario)."""
         key = {k: v for k, v in self.params.items() if k not in RUN_AXES and k not in PER_SCENARIO_PLANT_AXES}
         return json.dumps(key, sort_keys=True)
 
 
 @dataclass(frozen=True)
 class Chunk:
-    """Runs that share a design (and h_true): one task, one batched simulation, one file."""
+    """Runs that share a design: one task, one batched simulation, one file."""
 
     index: int
     runs: tuple[Run, ...]
@@ -238,10 +239,10 @@ class SweepSpec:
         return out
 
     def chunks(self) -> list[Chunk]:
-        """Runs grouped by design (and h_true), cut into chunks of ``chunk_size`` (deterministic).
+        """Runs grouped by design, cut into chunks of ``chunk_size`` (deterministic).
 
-        Runs on differently perturbed plants share a chunk: the batch integrates one plant
-        per scenario."""
+        Runs on differently perturbed plants, or plants of other true delays, share a chunk:
+        the batch integrates one plant per scenario."""
         groups: dict[str, list[Run]] = {}
         for r in self.runs():
             groups.setdefault(r.design_key(), []).append(r)
