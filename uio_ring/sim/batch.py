@@ -501,9 +501,9 @@ class _BatchObserver:
         if first:
             Xi = np.concatenate([xi_prev[None], Xi], axis=0)
         self.xi = Xi[-1].copy()
-        Z = Xi + D
-        Ztail = np.repeat(Z[:1], self.pad, axis=0) if first else self.Ztail
-        Zrows = np.concatenate([Ztail, Z], axis=0)
+        Zrows = np.empty((self.pad + Xi.shape[0],) + Xi.shape[1:])  # ẑ = ξ + D(δ) y after its tail
+        np.add(Xi, D, out=Zrows[self.pad :])
+        Zrows[: self.pad] = Zrows[self.pad] if first else self.Ztail  # held at ẑ(0) before 0
         zoff = self.pad - jlo
         xh = _bsum(st.X, Zrows, jlo, j1, N, zoff)
         wh = None if st.Wm is None else _bsum(st.Wm, Zrows, jlo, j1, N, zoff)
