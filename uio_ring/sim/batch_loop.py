@@ -128,7 +128,7 @@ class ClosedLoop:
         self.xi, self.x, self.y, self.u = xi, x_new, y_new, uk
         self.z = xi + y_new @ st.Dy[0].T + (uk @ st.Du[0].T if st.n_u else 0.0)
 
-    def segment(self, j0: int, j1: int, n_steps: int) -> tuple[np.ndarray, ...]:
+    def segment(self, j0: int, j1: int, n_steps: int) -> tuple[Any, ...]:
         """Samples ``j0 … j1`` (time-major ``(S, K, ·)``): x, y, w, u, x̂, ŵ (None without ŵ); the
         state is at sample ``j0`` on entry and at ``j1 + 1`` on return (``j1 < n_steps``)."""
         S, K, dt = self.S, self.u.shape[0], self.bp.dt
