@@ -797,8 +797,9 @@ def simulate_batch(
     design : ObserverDesign
         Any design (its ``numeric()`` model runs, as in :func:`simulate_observer`).
     scenarios : sequence of Scenario
-        What differs between runs: x0, w, u, noise and seed, x_hat0, and the plant
-        (``Scenario(plant=…)``; it must have the sizes, delay degrees and h of ``plant``).
+        What differs between runs: x0, w, u, noise and seed, x_hat0, the plant
+        (``Scenario(plant=…)``; it must have the sizes, delay degrees and h of ``plant``)
+        and its true delay (``Scenario(plant_h=…)``).
     t_final, dt : float
         Horizon and step (``dt`` divides the observer's h and the plant's).
     plant : DelaySystem, optional
@@ -854,6 +855,9 @@ def simulate_batch(
         error: its metrics say so), and scenario plants whose h differs from ``plant``'s.
     DimensionError
         Scenario plants whose matrices differ from ``plant``'s in size or delay degree.
+    NotSupportedError
+        As :func:`simulate_observer`: ``exact_start`` for a model without ``z_of_x``, ``feedback``
+        on delay plants or with ``F ≠ 0``; and ``feedback`` with an observer that has delayed taps.
 
     A closed loop steps plant and observer together, one step at a time for all K scenarios
     (one call of ``feedback`` per step); an open loop runs by segments of whole blocks.
