@@ -841,7 +841,8 @@ def simulate_batch(
         Closed loop, as in :func:`simulate_observer` (delay-free plants, u held over each step):
         ``feedback(t, x_hat, w_hat) -> u`` with one row per scenario — ``x_hat`` ``(K, n_x)``,
         ``w_hat`` ``(K, n_w)`` or None, ``u`` ``(K, n_u)`` — called once per step for all K
-        (:mod:`uio_ring.sim.batch_loop`; observers without delayed taps; scenarios give no u).
+        (:mod:`uio_ring.sim.batch_loop`; observers without delayed taps; scenarios give no u;
+        the observer's step runs in numpy, whatever ``kernel``).
 
     Returns
     -------
