@@ -53,13 +53,19 @@ that ``--quick`` exits 0.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import importlib.util
+import json
+import math
 import multiprocessing as mp
 import os
+import queue
 import random
 import subprocess
 import sys
+import threading
 import time
+from fractions import Fraction
 from typing import Any
 
 SIZES = [4, 8, 12, 16, 20]
@@ -245,7 +251,35 @@ def _setup_ours(case):
         "left_kernel": lambda: left_kernel(M),
         "solve_left": lambda: solve_left(M, W),
     }
-    return ops, monic_factors
+
+    def entries(A) -> Entries:
+        return [[[(c.numerator, c.denominator) for c in A[i, j].coeffs()] for j in range(A.cols)]
+                for i in range(A.rows)]
+
+    def describe(op: str, out: Any) -> dict[str, Any]:
+        if op == "hermite":
+            ok = out.U @ M == out.H and is_unimodular(out.U)
+            return _report(ok, {"H": entries(out.H), "U": entries(out.U)}, _digest(entries(out.H)))
+        if op == "smith":
+            ok = out.U @ M @ out.V == out.S and is_unimodular(out.U) and is_unimodular(out.V)
+            return _report(ok, {"U": entries(out.U), "V": entries(out.V)}, _digest(entries(out.S)))
+        if op == "left_kernel":
+            ok = (out @ M).is_zero() and out.rows == M.rows - M.rank()
+            K = entries(out)
+            return _report(ok, {"K": K}, _row_degrees(K))
+        if op == "left_inverse":
+            ok = out @ M == PolyMatrix.identity(M.cols)
+            return _report(ok, {"L": entries(out)}, None)
+        if op == "solve_left":
+            ok = out @ M == W
+            return _report(ok, {"X": entries(out)}, None)
+        if op == "det":
+            return _report(True, {}, _digest([[[(c.numerator, c.denominator) for c in out.coeffs()]]]))
+        if op == "rank":
+            return _report(True, {}, out)
+        return {}
+
+    return ops, monic_factors, describe
 
 
 def _coefficient_matrices(data: Data, n: int, m: int) -> list[list[list[int]]]:
@@ -281,7 +315,7 @@ def _setup_sympy(case):
         "det": det,
         "is_unimodular": is_unimodular,
     }
-    return ops, monic_factors
+    return ops, monic_factors, lambda op, out: {}
 
 
 def _sage_names():
@@ -299,14 +333,28 @@ def _sage_names():
     return QQ, PolynomialRing, matrix
 
 
-def sage_available() -> bool:
-    for name in ("sage.all", "sage.all__sagemath_modules"):
-        try:
-            if importlib.util.find_spec(name) is not None:
-                return True
-        except ImportError:
-            continue
-    return False
+_FIND_SAGE = ("import importlib.util, sys\n"
+              "for name in ('sage.all', 'sage.all__sagemath_modules'):\n"
+              "    try:\n"
+              "        if importlib.util.find_spec(name) is not None: sys.exit(0)\n"
+              "    except ImportError: pass\n"
+              "sys.exit(1)\n")
+
+
+def sage_available(sage_python: str | None = None) -> bool:
+    """SageMath importable in this interpreter, or (``sage_python``) in that one."""
+    if sage_python is None:
+        for name in ("sage.all", "sage.all__sagemath_modules"):
+            try:
+                if importlib.util.find_spec(name) is not None:
+                    return True
+            except ImportError:
+                continue
+        return False
+    try:
+        return subprocess.run([sage_python, "-c", _FIND_SAGE], timeout=120).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
 
 
 def _setup_sage(case):
@@ -320,6 +368,13 @@ def _setup_sage(case):
         fs = [f for f in M.elementary_divisors() if f != 0]
         return [[str(c) for c in f.monic().list()] for f in fs]
 
+    def left_inverse():
+        # what Sage offers: U of the Hermite form [I; 0] = U·M; its first m rows
+        H, U = M.__copy__().hermite_form(transformation=True)
+        if H[:m] != 1:
+            raise ValueError("not left unimodular")
+        return U[:m]
+
     # Sage caches det, rank, forms … on the matrix: every call gets a fresh copy
     ops = {
         "hermite": lambda: M.__copy__().hermite_form(transformation=True),
@@ -329,45 +384,207 @@ def _setup_sage(case):
         "det": lambda: M.__copy__().det(),
         "is_unimodular": lambda: M.is_square() and M.__copy__().det().degree() == 0,
         "left_kernel": lambda: M.__copy__().minimal_kernel_basis(),
+        "left_inverse": left_inverse,
     }
-    return ops, monic_factors
+
+    def entries(A) -> Entries:
+        return [[[(int(c.numerator()), int(c.denominator())) for c in A[i, j].list()] if A[i, j] else []
+                 for j in range(A.ncols())] for i in range(A.nrows())]
+
+    def unimodular(A) -> bool:
+        dt = A.det()
+        return dt != 0 and dt.degree() == 0
+
+    def describe(op: str, out: Any) -> dict[str, Any]:
+        if op == "hermite":
+            H, U = out
+            ok = U * M == H and unimodular(U)
+            return _report(ok, {"H": entries(H), "U": entries(U)}, _digest(entries(H)))
+        if op == "smith":
+            S, U, V = out
+            ok = U * M * V == S and unimodular(U) and unimodular(V)
+            return _report(ok, {"U": entries(U), "V": entries(V)}, _digest(entries(S)))
+        if op == "left_kernel":
+            ok = (out * M).is_zero() and out.nrows() == M.nrows() - M.rank()
+            K = entries(out)
+            return _report(ok, {"K": K}, _row_degrees(K))
+        if op == "left_inverse":
+            ok = out * M == 1
+            return _report(ok, {"L": entries(out)}, None)
+        if op == "det":
+            return _report(True, {}, _digest([[[(int(c.numerator()), int(c.denominator())) for c in out.list()]]]))
+        if op == "rank":
+            return _report(True, {}, int(out))
+        return {}
+
+    return ops, monic_factors, describe
 
 
 SETUP = {"ours": _setup_ours, "sympy": _setup_sympy, "sage": _setup_sage}
 
 
-def _worker(lib: str, case: dict[str, Any], ops: list[str], repeats: int, conn) -> None:
+# ----------------------------------------------------------------------------
+# output size, in one representation for every library
+# ----------------------------------------------------------------------------
+Entries = list[list[list[tuple[int, int]]]]  # rows of entries; an entry: (num, den) low to high
+
+
+def matrix_size(A: Entries) -> tuple[int, int]:
+    """(max degree, max bit length) of a polynomial matrix over Q[δ].
+
+    Bits are those of the primitive integer form of each row: the row times the
+    lcm of its denominators, divided by the gcd of the resulting integers — a
+    size that does not depend on how a library scales a row by a constant.
+
+    >>> matrix_size([[[(1, 2), (3, 4)], []], [[(5, 1)], [(0, 1), (0, 1), (7, 1)]]])
+    (2, 3)
+    """
+    deg, bits = -1, 0
+    for row in A:
+        den = 1
+        for e in row:
+            for _, q in e:
+                den = math.lcm(den, q)
+        ints = [p * (den // q) for e in row for p, q in e]
+        g = 0
+        for x in ints:
+            g = math.gcd(g, x)
+        if g:
+            bits = max(bits, max(abs(x // g).bit_length() for x in ints))
+        deg = max(deg, max((len(e) - 1 for e in row), default=-1))
+    return deg, bits
+
+
+def _digest(A: Entries) -> str:
+    """A short hash of A with each row divided by the leading coefficient of its first
+    nonzero entry (so that Hermite and Smith forms normalised up to units compare equal)."""
+    rows = []
+    for row in A:
+        lead = next((e[-1] for e in row if e), (1, 1))
+        scale = Fraction(lead[1], lead[0])
+        rows.append([[str(Fraction(p, q) * scale) for p, q in e] for e in row])
+    return hashlib.sha256(repr(rows).encode()).hexdigest()[:16]
+
+
+def _row_degrees(A: Entries) -> list[int]:
+    """Sorted row degrees (of a minimal kernel basis: the minimal indices)."""
+    return sorted(max((len(e) - 1 for e in row), default=-1) for row in A)
+
+
+def _report(ok: bool, mats: dict[str, Entries], canon: Any) -> dict[str, Any]:
+    return {"ok": bool(ok), "size": {k: matrix_size(v) for k, v in mats.items()}, "canon": canon}
+
+
+# ----------------------------------------------------------------------------
+# workers: one per (library, case); they stream (op, result | error) back
+# ----------------------------------------------------------------------------
+def _worker(lib: str, case: dict[str, Any], ops: list[str], repeats: int, send) -> None:
+    """Time each op (best CPU time of up to ``repeats``), then describe its last result
+    (verified identities, output sizes, a canonical form to compare); ``send``
+    gets ``(op, {"t": …, "ok": …, "size": …, "canon": …})``, an error string or None."""
     try:
-        table, monic_factors = SETUP[lib](case)
+        table, monic_factors, describe = SETUP[lib](case)
     except Exception as exc:  # report, never hang
-        conn.send(("setup-error", f"{type(exc).__name__}: {exc}"))
+        send(("setup-error", f"{type(exc).__name__}: {exc}"))
         return
-    conn.send(("ready", None))
+    send(("ready", None))
     for op in ops:
         if op == "__check__":
             try:
-                conn.send((op, monic_factors()))
+                send((op, monic_factors()))
             except Exception as exc:
-                conn.send((op, f"error: {type(exc).__name__}: {exc}"))
+                send((op, f"error: {type(exc).__name__}: {exc}"))
             continue
         fn = table.get(op)
         if fn is None:
-            conn.send((op, None))
+            send((op, None))
             continue
         try:
             best = float("inf")
             spent = 0.0
             for _ in range(repeats):
-                t0 = time.perf_counter()
-                fn()
-                t = time.perf_counter() - t0
+                t0 = time.process_time()
+                out = fn()
+                t = time.process_time() - t0
                 best = min(best, t)
                 spent += t
                 if spent > 1.0:
                     break
-            conn.send((op, best))
+            result = {"t": best}
+            result.update(describe(op, out))
+            send((op, result))
         except Exception as exc:
-            conn.send((op, f"error: {type(exc).__name__}: {exc}"))
+            send((op, f"error: {type(exc).__name__}: {exc}"))
+
+
+def _pipe_worker(lib: str, case: dict[str, Any], ops: list[str], repeats: int, conn) -> None:
+    _worker(lib, case, ops, repeats, conn.send)
+
+
+def _stdio_worker() -> None:
+    """``python bench_ring.py --worker``: one worker in another interpreter (e.g. a
+    venv with passagemath); JSON job on stdin, one JSON message a line on stdout."""
+    job = json.loads(sys.stdin.read())
+    out = sys.stdout
+
+    def send(msg: Any) -> None:
+        out.write(json.dumps(msg) + "\n")
+        out.flush()
+
+    sys.stdout = sys.stderr  # library chatter must not corrupt the channel
+    _worker(job["lib"], job["case"], job["ops"], job["repeats"], send)
+
+
+class _LineConnection:
+    """``poll``/``recv`` over the JSON lines of a subprocess's stdout."""
+
+    def __init__(self, proc: subprocess.Popen) -> None:
+        self._queue: queue.Queue[Any] = queue.Queue()
+        self._next: list[Any] = []
+
+        def pump() -> None:
+            assert proc.stdout is not None
+            for line in proc.stdout:
+                self._queue.put(tuple(json.loads(line)))
+            self._queue.put(EOFError)
+
+        threading.Thread(target=pump, daemon=True).start()
+
+    def poll(self, timeout: float) -> bool:
+        if not self._next:
+            try:
+                self._next.append(self._queue.get(timeout=timeout))
+            except queue.Empty:
+                return False
+        return True
+
+    def recv(self) -> Any:
+        msg = self._next.pop() if self._next else self._queue.get()
+        if msg is EOFError:
+            self._next.append(msg)
+            raise EOFError
+        return msg
+
+    def close(self) -> None:
+        pass
+
+
+class _Subprocess:
+    def __init__(self, python: str, job: dict[str, Any]) -> None:
+        self.proc = subprocess.Popen([python, os.path.abspath(__file__), "--worker"], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, text=True)
+        assert self.proc.stdin is not None
+        self.proc.stdin.write(json.dumps(job))
+        self.proc.stdin.close()
+
+    def is_alive(self) -> bool:
+        return self.proc.poll() is None
+
+    def kill(self) -> None:
+        self.proc.kill()
+
+    def join(self) -> None:
+        self.proc.wait()
 
 
 def _context():
@@ -375,16 +592,26 @@ def _context():
     return mp.get_context("fork" if "fork" in methods else "spawn")
 
 
-def run_case(lib: str, case: dict[str, Any], ops: list[str], repeats: int, budget: float) -> dict[str, Any]:
-    """Run ``ops`` for one library on one case; each op gets ``budget`` seconds."""
+def _start(lib: str, case: dict[str, Any], ops: list[str], repeats: int, python: str | None):
+    if python is not None:  # another interpreter
+        proc = _Subprocess(python, dict(lib=lib, case=case, ops=ops, repeats=repeats))
+        return proc, _LineConnection(proc.proc)
     ctx = _context()
+    parent, child = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=_pipe_worker, args=(lib, case, ops, repeats, child), daemon=True)
+    proc.start()
+    child.close()
+    return proc, parent
+
+
+def run_case(lib: str, case: dict[str, Any], ops: list[str], repeats: int, budget: float,
+             python: str | None = None) -> dict[str, Any]:
+    """Run ``ops`` for one library on one case; each op gets ``budget`` seconds.
+    ``python``: run the worker in that interpreter rather than a fork of this one."""
     results: dict[str, Any] = {}
     todo = list(ops)
     while todo:
-        parent, child = ctx.Pipe(duplex=False)
-        proc = ctx.Process(target=_worker, args=(lib, case, todo, repeats, child), daemon=True)
-        proc.start()
-        child.close()
+        proc, parent = _start(lib, case, todo, repeats, python)
         try:
             if not parent.poll(max(budget, 60.0)):
                 for op in todo:
@@ -450,7 +677,12 @@ def import_times(repeats: int) -> list[tuple[str, float, float, float]]:
 # ----------------------------------------------------------------------------
 # main
 # ----------------------------------------------------------------------------
+def _time(v: Any) -> Any:
+    return v["t"] if isinstance(v, dict) else v
+
+
 def _fmt(v: Any) -> str:
+    v = _time(v)
     if v is None:
         return "n/a"
     if isinstance(v, float):
@@ -459,9 +691,31 @@ def _fmt(v: Any) -> str:
 
 
 def _ratio(other: Any, ours: Any) -> str:
+    other, ours = _time(other), _time(ours)
     if isinstance(other, float) and isinstance(ours, float) and ours > 0:
-        return f"{other / ours:.1f}x"
+        return f"{other / ours:.1f}x" if other / ours < 10 else f"{other / ours:.0f}x"
     return ""
+
+
+def _sizes(v: Any) -> dict[str, tuple[int, int]]:
+    return {k: tuple(x) for k, x in v.get("size", {}).items()} if isinstance(v, dict) else {}
+
+
+def _fmt_size(sizes: dict[str, tuple[int, int]]) -> str:
+    """``U 5/41``: max degree / max bits (primitive rows) of each output matrix."""
+    return " ".join(f"{k} {d}/{b}" for k, (d, b) in sizes.items())
+
+
+def _larger(ours: dict[str, tuple[int, int]], other: dict[str, tuple[int, int]]) -> str:
+    """The output matrices where ours is larger than the other library's (degree or bits)."""
+    out = []
+    for k, (d, b) in ours.items():
+        if k in other:
+            od, ob = other[k]
+            what = ("deg" if d > od else "") + ("+" if d > od and b > ob else "") + ("bits" if b > ob else "")
+            if what:
+                out.append(f"{k}:{what}")
+    return " ".join(out) or "-"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -474,6 +728,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-sympy", action="store_true", help="skip the sympy columns")
     ap.add_argument("--sage", action="store_true", help="require SageMath (exit 2 if not importable)")
     ap.add_argument("--no-sage", action="store_true", help="skip the SageMath columns")
+    ap.add_argument("--sage-python", default=os.environ.get("UIO_SAGE_PYTHON") or None,
+                    help="a Python interpreter with passagemath (default: $UIO_SAGE_PYTHON, "
+                         "else SageMath in this interpreter)")
     ap.add_argument("--families", default=",".join(FAMILIES),
                     help=f"comma-separated subset of {','.join(FAMILIES)}")
     args = ap.parse_args(argv)
@@ -486,16 +743,19 @@ def main(argv: list[str] | None = None) -> int:
     if unknown:
         ap.error(f"unknown families {unknown}; choose from {FAMILIES}")
     libs = ["ours"] + ([] if args.no_sympy else ["sympy"])
-    if sage_available() and not args.no_sage:
+    if not args.no_sage and sage_available(args.sage_python):
         libs.append("sage")
     elif args.sage:
-        print("--sage: SageMath is not importable (pip install passagemath-flint passagemath-modules)")
+        where = args.sage_python or sys.executable
+        print(f"--sage: SageMath is not importable by {where} (install the passagemath wheels "
+              "passagemath-flint and passagemath-modules, e.g. in a venv named by --sage-python)")
         return 2
+    python = {"sage": args.sage_python}
 
     import platform
 
     print(f"# uio_ring ring benchmark  (python {platform.python_version()}, {os.cpu_count()} cpu, "
-          f"budget {budget:g} s/op, best of {repeats}, seed {args.seed})")
+          f"budget {budget:g} s/op, best CPU time of {repeats}, seed {args.seed})")
     versions = []
     for mod in ("uio_ring", "sympy", "flint"):
         try:
@@ -507,7 +767,7 @@ def main(argv: list[str] | None = None) -> int:
     except Exception:
         pass
     if "sage" in libs:
-        versions.append("sage: yes")
+        versions.append(f"sage: {args.sage_python or 'this interpreter'}")
     elif args.no_sage:
         versions.append("sage: skipped (--no-sage)")
     else:
@@ -522,6 +782,9 @@ def main(argv: list[str] | None = None) -> int:
         header += ["sympy [s]", "sympy/ours"]
     if "sage" in libs:
         header += ["sage [s]", "sage/ours"]
+    header += ["ours deg/bits"]
+    if "sage" in libs:
+        header += ["sage deg/bits", "ours larger"]
     rows: list[list[str]] = []
     mismatches: list[str] = []
     start = time.perf_counter()
@@ -537,20 +800,28 @@ def main(argv: list[str] | None = None) -> int:
                     ops.append(op)
             if "invariant_factors" in ops:  # cross-check the (unique) invariant factors
                 ops.append("__check__")
-            r = run_case(lib, case, ops, repeats, budget) if ops else {}
+            r = run_case(lib, case, ops, repeats, budget, python.get(lib)) if ops else {}
             r.update(skipped)
             for op, v in r.items():
                 if v == "timeout":
                     timed_out.add((lib, case["family"], op))
+                if isinstance(v, dict) and not v.get("ok", True):
+                    mismatches.append(f"{case['family']} n={case['n']} {op}: {lib}'s result fails its identities")
             res[lib] = r
         ref = res["ours"].get("__check__")
         for lib in libs[1:]:
             other = res[lib].get("__check__")
             if isinstance(ref, list) and isinstance(other, list) and ref != other:
                 mismatches.append(f"{case['family']} n={case['n']}: invariant factors differ, ours vs {lib}")
+            for op in case["ops"]:
+                a, b = res["ours"].get(op), res[lib].get(op)
+                if (isinstance(a, dict) and isinstance(b, dict) and a.get("canon") is not None
+                        and b.get("canon") is not None and a["canon"] != b["canon"]):
+                    what = {"hermite": "H", "smith": "S", "left_kernel": "kernel row degrees"}.get(op, "value")
+                    mismatches.append(f"{case['family']} n={case['n']} {op}: {what} differs, ours vs {lib}")
         if case["family"] == "tall4":
             for lib in libs:
-                v = res[lib].get("left_kernel")
+                v = _time(res[lib].get("left_kernel"))
                 if isinstance(v, float):
                     kernel_times[lib].append((case["n"], v))
         for op in case["ops"]:
@@ -560,6 +831,10 @@ def main(argv: list[str] | None = None) -> int:
             for lib in libs[1:]:
                 v = res[lib].get(op)
                 line += [_fmt(v), _ratio(v, ours)]
+            line.append(_fmt_size(_sizes(ours)))
+            if "sage" in libs:
+                theirs = _sizes(res["sage"].get(op))
+                line += [_fmt_size(theirs), _larger(_sizes(ours), theirs) if theirs else ""]
             rows.append(line)
         _print_rows(header, rows)
         rows.clear()
@@ -567,7 +842,9 @@ def main(argv: list[str] | None = None) -> int:
     if mismatches:
         print("# WARNING: " + "; ".join(mismatches))
     else:
-        print("# invariant factors agree between all libraries on every case where both finished")
+        print("# every result verified (U·M = H, U·M·V = S, K·M = 0, X·M = I or W, U and V unimodular); "
+              "invariant factors, H, S, det, rank and kernel row degrees agree between the libraries "
+              "on every case where both finished")
 
     for lib in libs:
         pts = kernel_times[lib]
@@ -599,15 +876,21 @@ _printed_header = False
 
 def _print_rows(header: list[str], rows: list[list[str]]) -> None:
     global _printed_header
-    widths = [max(len(h), 18) for h in header]
+    widths = [max(len(h), 11) for h in header]
     widths[0], widths[1], widths[2], widths[3] = 9, 3, 6, 18
+    for i, h in enumerate(header):
+        if "deg/bits" in h:
+            widths[i] = 22
     if not _printed_header:
         print("  ".join(h.ljust(w) for h, w in zip(header, widths, strict=True)))
         print("  ".join("-" * w for w in widths))
         _printed_header = True
     for r in rows:
-        print("  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)), flush=True)
+        print("  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip(), flush=True)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    if sys.argv[1:] == ["--worker"]:
+        _stdio_worker()
+    else:
+        sys.exit(main())
