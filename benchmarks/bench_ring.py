@@ -1,15 +1,40 @@
 #!/usr/bin/env python
 """Benchmark of the exact ring layer (uio_ring.ring) against sympy and SageMath.
 
-One run prints one table: our time, sympy's time and the ratio, and -- when
-``sage.all`` (e.g. the ``passagemath`` wheels) is importable -- SageMath's time
-and ratio; then the import cost of ``uio_ring`` against ``sympy``.
+One run prints one table: per (case, operation) our CPU time, sympy's and
+SageMath's and the ratios, then the output sizes of ours and Sage's results, then
+the import cost of ``uio_ring`` against ``sympy``.
 
 Every (library, matrix) pair runs in its own worker process, so that a case
 that exceeds the per-operation time budget is killed and reported as
 ``timeout`` instead of hanging the run; once an operation times out at some
 size, larger sizes of the same family are reported ``skipped (> budget)``.
-Times are the best of up to ``--repeats`` runs (repeats stop after ~1 s).
+Times are the best CPU time (``time.process_time``) of up to ``--repeats`` runs
+(repeats stop after ~1 s): on a loaded machine wall time would measure the load.
+
+Output size (``deg/bits`` columns, for each output matrix: H, U, V, K, L, X)
+    max degree of the entries / max bit length of the integers of the primitive
+    integer form of each row (the row times the lcm of its denominators, divided by
+    the gcd of the resulting integers; so a row scaled by a constant has the same
+    size).  ``ours larger`` names the matrices where ours exceeds Sage's.  Both
+    libraries' results are verified after timing (U·M = H, U·M·V = S with U, V
+    unimodular, K·M = 0 with rows − rank rows, L·M = I, X·M = W), and H, S (rows
+    made monic), det, rank and the row degrees of the kernel bases (the minimal
+    indices) are compared between the libraries; any failure is a WARNING and exit 1.
+
+SageMath (optional, never a test dependency)
+    The passagemath wheels give what is used here (``PolynomialRing(QQ, 'd')``,
+    ``hermite_form``, ``smith_form``, ``minimal_kernel_basis``, ``popov_form``)
+    with two distributions; keep them out of the project's environment::
+
+        python -m venv /path/to/sagevenv
+        /path/to/sagevenv/bin/pip install passagemath-flint passagemath-modules
+
+    (about 225 MB of wheels for CPython 3.11 on x86-64 Linux, 0.9 GB installed, under a
+    minute).  Then ``--sage-python /path/to/sagevenv/bin/python`` (or the
+    environment variable ``UIO_SAGE_PYTHON``) runs Sage's workers in that
+    interpreter (the job goes as JSON on stdin, results come back one JSON line
+    each); without it Sage is imported lazily in this interpreter when present.
 
 What is compared
     hermite          ours: hermite(M) (H and U);  sage: M.hermite_form(transformation=True)
@@ -21,8 +46,11 @@ What is compared
                      sage: M.rank(), M.det()
     is_unimodular    sympy/sage: det is a nonzero constant
     left_kernel      ours: left_kernel(M) (Popov basis);  sage: M.minimal_kernel_basis()
-    left_inverse, solve_left: ours only (neither library has a polynomial left
-                     inverse; sage's solve_left answers over the fraction field)
+                     (a weak Popov basis, Sage's default)
+    left_inverse     ours: left_inverse(M);  sage: the first n rows of U from
+                     M.hermite_form(transformation=True) = [I; 0] (Sage has no polynomial
+                     left inverse of its own)
+    solve_left       ours only (sage's solve_left answers over the fraction field)
 
 Cases (seeded, identical for every library)
     random     n×n, entries of degree 2 with integer coefficients in [−3, 3]
@@ -43,6 +71,7 @@ Usage::
     python benchmarks/bench_ring.py --max-n 12
     python benchmarks/bench_ring.py --families highdeg,tall4
     python benchmarks/bench_ring.py --sage          # fail if SageMath is not importable
+    python benchmarks/bench_ring.py --sage-python /path/to/sagevenv/bin/python --no-sympy
     python benchmarks/bench_ring.py --quick         # tiny sizes: a smoke test
     PYTHONPATH=. python benchmarks/bench_ring.py    # this checkout rather than the installed one
 

@@ -34,3 +34,48 @@ def test_random_spec_generates_a_loadable_spec_and_times_a_check(tmp_path):
     proc = subprocess.run([sys.executable, str(script), "--time", "2", "--degree", "2"],
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0 and "n =  2:" in proc.stdout and "CPU" in proc.stdout, proc.stdout + proc.stderr
+
+
+def _bench_module():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bench_ring", BENCH)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_worker_in_another_interpreter_reports_verified_results_and_sizes():
+    """The --sage-python channel (JSON over a subprocess's stdio), here with our own
+    library in a fresh interpreter: every result comes back verified, with sizes
+    equal to those measured in this process."""
+    br = _bench_module()
+    case = br.build_cases([3], 7, families=["tall"])[0]
+    ops = ["hermite", "left_kernel", "left_inverse"]
+    got = br.run_case("ours", case, ops, 1, 60.0, python=sys.executable)
+    assert set(got) == set(ops)
+    for op in ops:
+        assert got[op]["ok"] is True and got[op]["t"] >= 0, got[op]
+    from uio_ring import PolyMatrix, left_kernel
+
+    M = PolyMatrix.from_coefficients(br._coefficient_matrices(case["M"], *case["shape"]))
+    K = left_kernel(M)
+    entries = [[[(c.numerator, c.denominator) for c in K[i, j].coeffs()] for j in range(K.cols)]
+               for i in range(K.rows)]
+    assert tuple(got["left_kernel"]["size"]["K"]) == br.matrix_size(entries)
+    assert got["left_kernel"]["canon"] == br._row_degrees(entries)
+
+
+def test_matrix_size_is_invariant_under_row_scaling():
+    br = _bench_module()
+    row = [[(1, 2), (3, 4)], [(5, 6)]]
+    scaled = [[(7 * p, 3 * q) for p, q in e] for e in row]
+    assert br.matrix_size([row]) == br.matrix_size([scaled]) == (1, 4)  # 6, 9, 10 after scaling by 12
+
+
+def test_sage_required_but_missing_exits_2(tmp_path):
+    missing = str(tmp_path / "no-such-python")
+    proc = subprocess.run([sys.executable, str(BENCH), "--quick", "--sage", "--sage-python", missing],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2 and "not importable" in proc.stdout
