@@ -620,10 +620,21 @@ class _LineConnection:
         pass
 
 
+def _die_with_parent() -> None:
+    """Linux: the worker gets SIGKILL when the benchmark dies (no orphaned computation)."""
+    try:
+        import ctypes
+        import signal
+
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
 class _Subprocess:
     def __init__(self, python: str, job: dict[str, Any]) -> None:
         self.proc = subprocess.Popen([python, os.path.abspath(__file__), "--worker"], stdin=subprocess.PIPE,
-                                     stdout=subprocess.PIPE, text=True)
+                                     stdout=subprocess.PIPE, text=True, preexec_fn=_die_with_parent)
         assert self.proc.stdin is not None
         self.proc.stdin.write(json.dumps(job))
         self.proc.stdin.close()
