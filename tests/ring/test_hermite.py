@@ -253,3 +253,46 @@ def test_verify_detects_a_wrong_claim():
 def test_scalar_entry_type():
     h = hermite(PolyMatrix("[[2*d + 2]]"))
     assert h.H[0, 0] == P("d + 1")
+
+
+# ----------------------------------------------------------------------------
+# tall / rank-deficient: elimination while coefficients stay small, else Toeplitz
+# ----------------------------------------------------------------------------
+@heavy()
+@given(st.data())
+def test_small_elimination_equals_the_toeplitz_path_on_columns_of_unimodular_matrices(data):
+    """Tall M = first n columns of a unimodular matrix (6..9 rows: the Toeplitz path
+    applies): the capped elimination finishes, and since H and the reduced U (Popov
+    kernel rows, top rows reduced modulo them) are unique, it returns exactly what
+    the elimination with the Toeplitz kernel returns."""
+    from uio_ring.ring.hermite import _hermite_by_small_elimination, hermite_by_elimination
+
+    m = data.draw(st.integers(6, 9))
+    n = data.draw(st.integers(1, m - 1))
+    Q = data.draw(unimodular_matrices(m, steps=2 * m))
+    M = Q[:, :n]
+    small = _hermite_by_small_elimination(M)
+    assert small is not None
+    ref = hermite_by_elimination(M)
+    assert small.H == ref.H and small.U == ref.U and small.pivots == ref.pivots
+    assert small.U @ M == small.H
+    assert_unimodular(small.U, m)
+    assert_popov(small.U[small.rank:, :])
+    assert hermite(M).U == small.U
+
+
+def test_small_elimination_gives_way_when_coefficients_swell():
+    """A random 12×8 integer matrix of degree 2: Euclidean elimination over Q reaches
+    thousands of bits, the capped attempt returns None and hermite takes the
+    Toeplitz path — to the same unique H and reduced U as the full elimination."""
+    import random
+
+    from uio_ring.ring.hermite import _hermite_by_small_elimination, hermite_by_elimination
+
+    rng = random.Random(20261130)
+    coeffs = [[[rng.randint(-3, 3) for _ in range(8)] for _ in range(12)] for _ in range(3)]
+    M = PolyMatrix.from_coefficients(coeffs)
+    assert _hermite_by_small_elimination(M) is None
+    h = check_hermite(M)
+    ref = hermite_by_elimination(M)
+    assert h.H == ref.H and h.U == ref.U

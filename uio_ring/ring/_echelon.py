@@ -14,7 +14,26 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _division as dv
 
-__all__ = ["row_echelon", "normalise", "reduce_transform"]
+__all__ = ["row_echelon", "normalise", "reduce_transform", "CoefficientGrowth", "max_bits"]
+
+
+class CoefficientGrowth(Exception):
+    """Raised by :func:`row_echelon` when a coefficient outgrows its ``bit_cap``."""
+
+
+def max_bits(rows: dn.Rows) -> int:
+    """Largest bit length of a numerator coefficient or a denominator in ``rows``.
+
+    >>> import flint
+    >>> max_bits([[flint.fmpq_poly([flint.fmpq(1, 1000), 5])]])  # (1 + 5000·δ)/1000
+    13
+    """
+    out = 0
+    for row in rows:
+        for p in row:
+            if not p.is_zero():
+                out = max(out, p.numer().height_bits(), int(p.denom()).bit_length())
+    return out
 
 
 def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
@@ -33,11 +52,15 @@ def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
         rows[i] = [xg * f - yg * e for e, f in zip(rp, ri, strict=True)]
 
 
-def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int) -> list[int]:
+def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | None = None) -> list[int]:
     """Row echelon form of ``a`` in place (unimodular row operations, mirrored on ``u``).
 
     Returns the pivot columns; rows ``0..len(pivots)-1`` are nonzero, the others
     zero.  Pivots are not yet monic and entries above them are not reduced.
+    With ``bit_cap``: after each column, raise :class:`CoefficientGrowth` (``a``
+    and ``u`` half transformed) when a coefficient of ``a`` or ``u`` has more bits
+    (:func:`max_bits`) — for callers that have a better method when elimination
+    over Q swells.
 
     Algorithm: column by column.  While several candidate rows are nonzero in
     the column, the row with the least-degree entry (ties: least row degree) is
@@ -95,6 +118,8 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int) -> list[int]:
                 u[p], u[r] = u[r], u[p]
         pivots.append(j)
         r += 1
+        if bit_cap is not None and max(max_bits(a), max_bits(u) if u is not None else 0) > bit_cap:
+            raise CoefficientGrowth(f"elimination coefficients exceed {bit_cap} bits at column {j}")
     return pivots
 
 
