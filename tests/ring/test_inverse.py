@@ -29,6 +29,7 @@ from .strategies import (
     assert_unimodular,
     column_leading_matrix_rank,
     dense_matrices,
+    heavy,
     matrices,
     reference_det,
     square_matrices,
@@ -210,3 +211,19 @@ def test_paper_001_observability_matrix_left_inverse():
     printed = PolyMatrix("[[δ, 0, -1, 0, 0, 0], [1, 0, 0, 0, 0, 0], [1, 0, δ, 0, -1, 0], "
                          "[δ**2 - 1, 1, -2*δ, 0, 1, 0]]")
     assert printed @ O3 == PolyMatrix.identity(4)  # the paper's choice is valid too
+
+
+@heavy()
+@given(st.data())
+def test_left_inverse_of_columns_of_a_unimodular_matrix_is_the_reduced_hermite_transform(data):
+    """M = first n columns of a unimodular matrix: the left inverse (from the capped
+    elimination here) is the top of the Hermite transform reduced modulo the Popov
+    kernel, which is unique — the same as from elimination with the Toeplitz kernel."""
+    from uio_ring.ring.hermite import hermite_by_elimination
+
+    m = data.draw(st.integers(3, 9))
+    n = data.draw(st.integers(1, m - 1))
+    M = data.draw(unimodular_matrices(m, steps=2 * m))[:, :n]
+    X = left_inverse(M)
+    assert X @ M == PolyMatrix.identity(n)
+    assert X == hermite_by_elimination(M).U[:n, :]

@@ -20,6 +20,7 @@ from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
 from uio_ring.ring._predicates import coprime_maximal_minors, is_unimodular_raw, rank_raw
 from uio_ring.ring.errors import NotUnimodularError
+from uio_ring.ring.hermite import _hermite_by_small_elimination
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.smith import invariant_factors
 
@@ -66,7 +67,11 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     that basis divides the corresponding entry of X.  This keeps the δ-degree
     low (in an observer, degree is delay).  For square M it is the inverse.
 
-    Algorithm: a tall M of full column rank whose maximal minors are proved coprime
+    Algorithm: a tall M of full column rank is first tried by Euclidean elimination
+    stopped as soon as its coefficients swell (:mod:`~uio_ring.ring.hermite`: cheap
+    on columns of a unimodular matrix; X is then the top of the Hermite transform,
+    reduced modulo the Popov kernel taken from its own kernel rows).  Otherwise, or
+    when it stops: a tall M of full column rank whose maximal minors are proved coprime
     modulo a prime (two compressed minors,
     :func:`~uio_ring.ring._predicates.coprime_maximal_minors` with ``exact=False``), or
     that is not refused by two degree bounds of the same solver, gets X from
@@ -88,6 +93,10 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     M = require_matrix(M, "left_inverse")
     m, n = M.shape
     if m > n > 0 and rank_raw(M._r, m, n) == n:
+        # Elimination while its coefficients stay small: U·M = [I; 0] proves it.
+        small = _hermite_by_small_elimination(M)
+        if small is not None and small.H[:n, :] == PolyMatrix.identity(n, M.var):
+            return small.U[:n, :]
         # Either the minors are proved coprime, or one bounded attempt: a returned X is
         # checked exactly (X·M = I), which itself proves that M is left unimodular.
         proved = coprime_maximal_minors(M._r, m, n, exact=False)
