@@ -58,9 +58,10 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
     Returns the pivot columns; rows ``0..len(pivots)-1`` are nonzero, the others
     zero.  Pivots are not yet monic and entries above them are not reduced.
     With ``bit_cap``: after each column, raise :class:`CoefficientGrowth` (``a``
-    and ``u`` half transformed) when a coefficient of ``a`` or ``u`` has more bits
-    (:func:`max_bits`) — for callers that have a better method when elimination
-    over Q swells.
+    and ``u`` half transformed) when a coefficient of the new pivot row of ``a`` or
+    ``u``, or of the next column below it, has more bits (:func:`max_bits`; these
+    carry the swell of elimination over Q, at O(m + n) per column) — for callers
+    that have a better method then.
 
     Algorithm: column by column.  While several candidate rows are nonzero in
     the column, the row with the least-degree entry (ties: least row degree) is
@@ -117,9 +118,10 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
             if u is not None:
                 u[p], u[r] = u[r], u[p]
         pivots.append(j)
-        r += 1
-        if bit_cap is not None and max(max_bits(a), max_bits(u) if u is not None else 0) > bit_cap:
+        watch = [a[r], [a[i][j + 1] for i in range(r + 1, m)] if j + 1 < n else []]
+        if bit_cap is not None and max_bits(watch + ([u[r]] if u is not None else [])) > bit_cap:
             raise CoefficientGrowth(f"elimination coefficients exceed {bit_cap} bits at column {j}")
+        r += 1
     return pivots
 
 
