@@ -22,18 +22,14 @@ class CoefficientGrowth(Exception):
 
 
 def max_bits(rows: dn.Rows) -> int:
-    """Largest bit length of a numerator coefficient or a denominator in ``rows``.
+    """Largest :func:`~uio_ring.ring._backend.bits` (numerator height plus denominator)
+    of an entry of ``rows``.
 
     >>> import flint
     >>> max_bits([[flint.fmpq_poly([flint.fmpq(1, 1000), 5])]])  # (1 + 5000·δ)/1000
-    13
+    23
     """
-    out = 0
-    for row in rows:
-        for p in row:
-            if not p.is_zero():
-                out = max(out, p.numer().height_bits(), int(p.denom()).bit_length())
-    return out
+    return max((bk.bits(p) for row in rows for p in row if not p.is_zero()), default=0)
 
 
 def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
