@@ -938,7 +938,7 @@ def main(argv: list[str] | None = None) -> int:
     if mismatches:
         print("# WARNING: " + "; ".join(mismatches))
     else:
-        print("# every result verified (U·M = H, U·M·V = S, K·M = 0, X·M = I or W, U and V unimodular); "
+        print(f"# every {'other ' if unverified else ''}result verified (U·M = H, U·M·V = S, K·M = 0, X·M = I or W, U and V unimodular); "
               "invariant factors, H, S, det, rank and kernel row degrees agree between the libraries "
               "on every case where both finished")
 
