@@ -23,12 +23,12 @@ Known inputs ``u`` play no part: they are measured and can be subtracted.
 
 from __future__ import annotations
 
+from uio_ring.analysis._module_factors import module_invariant_factors
+from uio_ring.analysis._w_step import eliminate_w
 from uio_ring.analysis.report import ObservabilityReport
 from uio_ring.errors import UioRingError
-from uio_ring.ring.hermite import hermite
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.ring.row_basis import extend_row_basis
-from uio_ring.ring.smith import invariant_factors
 from uio_ring.systems.delay_system import DelaySystem
 
 __all__ = ["unknown_input_observability"]
@@ -66,10 +66,15 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
     Bejarano & Zheng (2014).  ``P_k`` is the unimodular transform of the ring's
     normalised row Hermite form, so ``F_{k+1}`` is that Hermite form and
     ``Δ_{k+1}`` is the image of ``[Δ_k A; G_k]`` under the left-kernel rows of
-    ``P_k`` (a minimal basis, which keeps the degrees low), reduced modulo a weak
+    ``P_k`` (a minimal basis, which keeps the degrees low; when ``F_k = I`` simply
+    ``Δ_k A − Δ_k B·G_k``, :mod:`uio_ring.analysis._w_step`), reduced modulo a weak
     Popov basis of the row module of ``N_k``
     (:func:`~uio_ring.ring.row_basis.extend_row_basis`; rows that fall into it are
-    dropped).  ``k*`` and the ``M_k`` do not depend on these choices.
+    dropped).  ``k*`` and the ``M_k`` do not depend on these choices.  The
+    invariant factors of ``N_k`` are those of that basis; they are all 1, or
+    ``1, …, 1, det`` for a square basis, when left primeness is proved modulo one
+    prime (:mod:`uio_ring.analysis._module_factors`); when no row is new,
+    ``N_{k+1} = N_k`` and its factors are not recomputed.
 
     Why the reduction changes no module: let ``T_k`` be the row module of pairs
     ``[x-part, w-part]`` spanned by ``[Δ_k A, Δ_k B]``, ``[G_k, F_k]`` and
@@ -109,17 +114,13 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
     # Loop invariant: Ns[j], deltas[j], facs[j] hold N_j, Δ_j and the invariant
     # factors of N_j for j = 0 … k; F_k, G_k, Delta_k are the current blocks.
     while True:
-        S_k = PolyMatrix.vstack(Delta_k @ B, F_k)
-        R_k = PolyMatrix.vstack(Delta_k @ A, G_k)
-        herm = hermite(S_k)
-        rho = herm.rank
-        PR = herm.U @ R_k
-        F_k = herm.H[0:rho, 0 : S_k.cols]
-        G_k = PR[0:rho, 0:n]
-        ext = extend_row_basis(basis, PR[rho : PR.rows, 0:n])
+        step = eliminate_w(Delta_k @ B, Delta_k @ A, F_k, G_k)
+        F_k, G_k = step.F, step.G
+        ext = extend_row_basis(basis, step.free)
         Delta_k, basis = ext.rows, ext.basis
         N_k = PolyMatrix.vstack(N_k, Delta_k)
-        fs = tuple(invariant_factors(N_k))
+        # N_{k+1} = N_k when no row is new: same matrix, same factors
+        fs = module_invariant_factors(N_k, basis) if Delta_k.rows else facs[k]
         deltas.append(Delta_k)
         Ns.append(N_k)
         facs.append(fs)

@@ -160,7 +160,7 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     return hermite_by_elimination(M)
 
 
-def _hermite_by_toeplitz(M: PolyMatrix) -> HermiteResult | None:
+def _hermite_by_toeplitz(M: PolyMatrix, *, min_rows: int | None = None) -> HermiteResult | None:
     """Hermite form with U for ``rank M < rows``, without a transform from elimination.
 
     ``U = [X; K]``: K the Popov basis of the left kernel (one block-Toeplitz
@@ -171,11 +171,12 @@ def _hermite_by_toeplitz(M: PolyMatrix) -> HermiteResult | None:
     unimodular: for any unimodular ``U0 = [X0; K0]`` with ``U0·M = H``, ``X − X0``
     lies in the kernel (``= Y·K``) and ``K0 = Z·K`` with Z unimodular, so
     ``U = [[I, Y·Z⁻¹], [0, Z⁻¹]]·U0``.  ``X·M = H_top`` and ``K·M = 0`` are checked
-    exactly inside.  None when a Toeplitz system would be too large.
+    exactly inside.  None when a Toeplitz system would be too large, or M has fewer than
+    ``min_rows`` rows (default ``TOEPLITZ_MIN_ROWS``).
     """
     m, n = M.shape
     a = M._r
-    if m < TOEPLITZ_MIN_ROWS:
+    if m < (TOEPLITZ_MIN_ROWS if min_rows is None else min_rows):
         return None
     r = rank_raw(a, m, n)
     if r == m:

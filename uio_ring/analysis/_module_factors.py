@@ -1,0 +1,51 @@
+"""Invariant factors of the row module of ``N_k``, from its weak Popov basis where that is cheap.
+
+The invariant factors of a matrix depend only on its row module, and the weak Popov
+basis W of :func:`~uio_ring.ring.row_basis.extend_row_basis` spans the row module of
+``N_k`` with linearly independent rows (distinct leading positions), so
+``rank N_k = rows of W`` and the invariant factors of ``N_k`` are those of W.
+
+1. W left prime (proved modulo one prime, :func:`~uio_ring.ring._left_prime.left_prime_mod_p`):
+   all factors are 1.
+2. W square (rank n) and W without its largest row left prime: ``d_{n−1} = 1`` (the
+   (n−1)-minors of W include those of that submatrix), so the factors are
+   ``1, …, 1, det W / lc`` (Smith); det W exactly by Bareiss over Z[δ]
+   (:func:`~uio_ring.ring._fraction_free.det_integer`).
+3. Otherwise: :func:`~uio_ring.ring.smith.invariant_factors` of ``N_k``.
+
+Steps 1–2 replace exact compressed minors of ``N_k`` (whose integer rows carry
+kilobits per algorithm step) by two determinants over GF(p)[δ].
+
+>>> from uio_ring.ring.matrix import PolyMatrix
+>>> module_invariant_factors(PolyMatrix("[[1, d], [0, d + 1]]"), PolyMatrix("[[1, d], [0, d + 1]]"))
+(1, d + 1)
+"""
+
+from __future__ import annotations
+
+from uio_ring.ring import _backend as bk
+from uio_ring.ring._fraction_free import _size, det_integer, integer_rows, smallest_first
+from uio_ring.ring._left_prime import left_prime_mod_p
+from uio_ring.ring.matrix import Poly, PolyMatrix
+from uio_ring.ring.smith import invariant_factors
+
+__all__ = ["module_invariant_factors"]
+
+
+def module_invariant_factors(N: PolyMatrix, W: PolyMatrix) -> tuple[Poly, ...]:
+    """The invariant factors of N, given a weak Popov basis W of its row module (module docstring).
+    Precondition: W is in weak Popov form and spans the row module of N (not checked)."""
+    r, n = W.shape
+    one = Poly._wrap(bk.ONE, N.var)
+    if r == 0:
+        return ()
+    if left_prime_mod_p(W._r, r, n):
+        return (one,) * r
+    if r == n and n > 1:
+        z, _ = integer_rows(W._r)
+        largest = max(range(n), key=lambda i: sum(_size(p) for p in z[i]))
+        rest = [W._r[i] for i in range(n) if i != largest]
+        if left_prime_mod_p(rest, n - 1, n):
+            det = det_integer(smallest_first(z, n), n)
+            return (one,) * (n - 1) + (Poly._wrap(bk.monic(bk.from_integer(det)), N.var),)
+    return tuple(invariant_factors(N))
