@@ -78,3 +78,12 @@ def test_matching_matrix_shape():
         [[paper001.system().C @ paper001.system().B, paper001.system().D],
          [paper001.system().D, PolyMatrix.zeros(3, 2)]]
     )
+
+
+@given(delay_systems())
+def test_factors_without_d_agree_with_determinantal_divisors(sys):
+    # D = 0: the matrices of (6) have zero columns, which the check drops before the Smith form
+    sys = DelaySystem(sys.A, sys.B, sys.C, None)
+    rep = check_rank_condition(sys)
+    assert factors_as_sympy(rep.factors_without_B) == determinantal_factors(rep.M)
+    assert factors_as_sympy(rep.factors_with_B) == determinantal_factors(rep.M_with_B)

@@ -35,6 +35,23 @@ def matching_matrix(sys: DelaySystem) -> PolyMatrix:
     return PolyMatrix.block([[sys.C @ sys.B, sys.D], [sys.D, PolyMatrix.zeros(p, m)]])
 
 
+def _without_zero_lines(M: PolyMatrix) -> PolyMatrix:
+    """M without its zero rows and zero columns: the same invariant factors (a minor through
+    a zero row or column is zero, so the determinantal divisors do not change).  With
+    ``D = 0`` the matrices of (6) are ``[[C B, 0], [0, 0], [B, 0]]``, whose zero columns
+    made the ring eliminate 26×8 matrices for 76 s on a random 16-state spec of δ-degree 16
+    instead of taking the fraction-free path on ``[C B; B]``.
+
+    >>> _without_zero_lines(PolyMatrix("[[d, 0], [0, 0], [1, 0]]"))
+    PolyMatrix([[d], [1]])
+    """
+    rows = [i for i in range(M.rows) if any(not M[i, j].is_zero() for j in range(M.cols))]
+    cols = [j for j in range(M.cols) if any(not M[i, j].is_zero() for i in rows)]
+    if not rows or not cols:
+        return PolyMatrix.zeros(0, 0, M.var)
+    return PolyMatrix([[M[i, j] for j in cols] for i in rows], M.var)
+
+
 def check_rank_condition(sys: DelaySystem) -> RankConditionReport:
     """Decide Assumption 2 of Zheng et al. (2015) from the invariant factors of two matrices.
 
@@ -68,8 +85,8 @@ def check_rank_condition(sys: DelaySystem) -> RankConditionReport:
     m = sys.n_w
     M = matching_matrix(sys)
     M_B = PolyMatrix.vstack(M, PolyMatrix.hstack(sys.B, PolyMatrix.zeros(sys.n_x, m)))
-    f_without = tuple(invariant_factors(M))
-    f_with = tuple(invariant_factors(M_B))
+    f_without = tuple(invariant_factors(_without_zero_lines(M)))
+    f_with = tuple(invariant_factors(_without_zero_lines(M_B)))
     rank_BD = PolyMatrix.vstack(sys.B, sys.D).rank()
     rank_D = sys.D.rank()
     holds = f_with == f_without
