@@ -5,8 +5,10 @@ basis W of :func:`~uio_ring.ring.row_basis.extend_row_basis` spans the row modul
 ``N_k`` with linearly independent rows (distinct leading positions), so
 ``rank N_k = rows of W`` and the invariant factors of ``N_k`` are those of W.
 
-1. W left prime (proved modulo one prime, :func:`~uio_ring.ring._left_prime.left_prime_mod_p`):
-   all factors are 1.
+1. W of rank r < n and left prime (proved modulo one prime,
+   :func:`~uio_ring.ring._left_prime.left_prime_mod_p`), or W square and constant: all
+   factors are 1.  (A square weak Popov W is row-reduced, so ``deg det W`` is the sum of
+   its row degrees: it is unimodular only when constant.)
 2. W square (rank n) and W without its largest row left prime: ``d_{n−1} = 1`` (the
    (n−1)-minors of W include those of that submatrix), so the factors are
    ``1, …, 1, det W / lc`` (Smith); det W exactly by Bareiss over Z[δ]
@@ -39,9 +41,11 @@ def module_invariant_factors(N: PolyMatrix, W: PolyMatrix) -> tuple[Poly, ...]:
     one = Poly._wrap(bk.ONE, N.var)
     if r == 0:
         return ()
-    if left_prime_mod_p(W._r, r, n):
+    if r == n and W.degree() == 0:
+        return (one,) * r  # a constant invertible basis: unimodular
+    if r < n and left_prime_mod_p(W._r, r, n):
         return (one,) * r
-    if r == n and n > 1:
+    if r == n and n > 1:  # deg det W = Σ row degrees > 0 (W is row-reduced): W is not unimodular
         z, _ = integer_rows(W._r)
         largest = max(range(n), key=lambda i: sum(_size(p) for p in z[i]))
         rest = [W._r[i] for i in range(n) if i != largest]
