@@ -235,3 +235,29 @@ def test_high_degree_small_systems_agree_with_the_raw_algorithm():
         rep = unknown_input_observability(sys)
         k_star, facs = _raw_algorithm(sys)
         assert (rep.k_star, [tuple(f) for f in rep.invariant_factors]) == (k_star, facs)
+
+
+def test_each_step_leaves_a_progress_note_and_the_end_clears_it(monkeypatch):
+    # the CLI's "still working" lines print this note: which step, how large N_k and Δ_k are
+    from uio_ring.analysis import _progress
+
+    notes = []
+    monkeypatch.setattr(_progress, "_NOTE", _Recorder(notes))
+    rep = unknown_input_observability(paper001.system())
+    steps = [t for t in notes if t]
+    assert len(steps) == rep.k_star + 1  # k = 0 … k*: one note per pass of the loop
+    assert steps[0].startswith("algorithm (4)–(5) of Zheng et al. (2015), k = 0: rank N_0 = 0 of 4")
+    assert f"k = {rep.k_star}: rank N_{rep.k_star} = 4 of 4" in steps[-1]
+    assert notes[-1] == "" and _progress.current() == ""
+
+
+class _Recorder(list):
+    """A one-slot list that also records every note written into it."""
+
+    def __init__(self, log):
+        super().__init__([""])
+        self.log = log
+
+    def __setitem__(self, i, v):
+        self.log.append(v)
+        super().__setitem__(i, v)

@@ -23,10 +23,12 @@ Known inputs ``u`` play no part: they are measured and can be subtracted.
 
 from __future__ import annotations
 
+from uio_ring.analysis import _progress
 from uio_ring.analysis._module_factors import module_invariant_factors
 from uio_ring.analysis._w_step import eliminate_w
 from uio_ring.analysis.report import ObservabilityReport
 from uio_ring.errors import UioRingError
+from uio_ring.ring import _backend as bk
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.ring.row_basis import extend_row_basis
 from uio_ring.systems.delay_system import DelaySystem
@@ -100,6 +102,20 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
     >>> unknown_input_observability(DelaySystem("[[0]]", "[[0]]", "[[d + 1]]", None)).non_unit_factors
     (d + 1,)
     """
+    try:
+        return _run(sys)
+    finally:
+        _progress.note("")
+
+
+def _size_note(k: int, basis: PolyMatrix, Delta: PolyMatrix) -> str:
+    """The progress line of step k (:mod:`uio_ring.analysis._progress`)."""
+    bits = max((bk.bits(p) for row in Delta._r for p in row), default=0)
+    return (f"algorithm (4)–(5) of Zheng et al. (2015), k = {k}: rank N_{k} = {basis.rows} of "
+            f"{basis.cols}, Δ_{k} of δ-degree {Delta.degree()} with {bits}-bit coefficients")
+
+
+def _run(sys: DelaySystem) -> ObservabilityReport:
     A, B, C, D = sys.A, sys.B, sys.C, sys.D
     n = sys.n_x
     Delta_k = PolyMatrix.zeros(0, n)
@@ -114,6 +130,7 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
     # Loop invariant: Ns[j], deltas[j], facs[j] hold N_j, Δ_j and the invariant
     # factors of N_j for j = 0 … k; F_k, G_k, Delta_k are the current blocks.
     while True:
+        _progress.note(_size_note(k, basis, Delta_k))
         step = eliminate_w(Delta_k @ B, Delta_k @ A, F_k, G_k)
         F_k, G_k = step.F, step.G
         ext = extend_row_basis(basis, step.free)

@@ -159,10 +159,13 @@ class _Heartbeat:
     def _run(self) -> None:
         import time
 
+        from uio_ring.analysis._progress import current
+
         t0 = time.monotonic()
         while not self._stop.wait(HEARTBEAT_SECONDS):
-            print(f"uio-ring: still {self.what} ({time.monotonic() - t0:.0f} s; Ctrl-C stops)",
-                  file=sys.stderr, flush=True)
+            now = current()
+            print(f"uio-ring: still {self.what} ({time.monotonic() - t0:.0f} s; Ctrl-C stops)"
+                  + (f" — {now}" if now else ""), file=sys.stderr, flush=True)
 
     def __enter__(self) -> _Heartbeat:
         self._thread.start()
