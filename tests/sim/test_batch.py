@@ -43,13 +43,17 @@ def _same(res, k, r, rel=1e-12):
         assert np.max(np.abs(getattr(r, name) - getattr(res, name)[k])) <= (1e-12 if name != "x_hat" else rel) * scale, name
 
 
+LINEAR_KERNELS = ["python", pytest.param("numba", marks=needs_numba)]  # the linear loops (linear_kernel)
+
+
+@pytest.mark.parametrize("kernel", LINEAR_KERNELS)
 @pytest.mark.parametrize("K", [3, 9])  # K < 8: chunked scan; K ≥ 8: one product per step
-def test_batch_equals_separate_runs_delay_observer(zb, K):
+def test_batch_equals_separate_runs_delay_observer(zb, K, kernel):
     rng = np.random.default_rng(K)
     sc = [Scenario(x0=rng.normal(size=4), w=_w(rng.uniform(1, 10), rng.uniform(10, 100)),
                    noise=0.01 if k % 3 == 1 else None, seed=k,
                    x_hat0=rng.normal(size=4) if k % 2 else None) for k in range(K)]
-    res = simulate_batch(zb, sc, t_final=0.25, dt=1e-3, trajectories=True, segment_steps=70)
+    res = simulate_batch(zb, sc, t_final=0.25, dt=1e-3, trajectories=True, segment_steps=70, kernel=kernel)
     assert res.x.shape == (K, 4, 251) and res.t.shape == (251,)
     for k in (0, 1, K - 1):
         s = sc[k]
@@ -61,13 +65,14 @@ def test_batch_equals_separate_runs_delay_observer(zb, K):
         assert res.metrics["final"][k] == pytest.approx(e[-1], rel=1e-9)
 
 
+@pytest.mark.parametrize("kernel", LINEAR_KERNELS)
 @pytest.mark.parametrize("dt", [5e-4, 1e-4])  # N = 20, 100: the time-major plant integration (run_rows)
-def test_batch_equals_separate_runs_fine_grid(zb, dt):
+def test_batch_equals_separate_runs_fine_grid(zb, dt, kernel):
     """Array inputs (a jump at t = 0 read through the delayed input: end fixes), callables, noise."""
     rng = np.random.default_rng(7)
     sc = [Scenario(x0=rng.normal(size=4), w=[1.0, -2.0] if k % 2 else _w(3.0, 40.0), noise=0.01 if k == 2 else None,
                    seed=k) for k in range(9)]
-    res = simulate_batch(zb, sc, t_final=0.06, dt=dt, trajectories=True, segment_steps=230)
+    res = simulate_batch(zb, sc, t_final=0.06, dt=dt, trajectories=True, segment_steps=230, kernel=kernel)
     for k in (0, 1, 2):
         s = sc[k]
         r = simulate_observer(zb, t_final=0.06, dt=dt, w=s.w, x0=s.x0, noise=s.noise, seed=s.seed, check=False)
@@ -168,15 +173,17 @@ def test_batch_equals_separate_runs_bihomogeneous_chains(disc, monkeypatch):
               rel=1e-9)
 
 
+@pytest.mark.parametrize("kernel", LINEAR_KERNELS)
 @pytest.mark.parametrize("dt", [1e-3, 2.5e-4])  # plant blocks of 10 (grouped maps), 40 steps (time-major)
-def test_exact_start_equals_separate_runs(zb, dt):
+def test_exact_start_equals_separate_runs(zb, dt, kernel):
     """exact_start: each scenario's plant starts earlier, the observer gets the true past and ẑ(0);
     the numbers of simulate_observer(exact_start=True) per scenario."""
     rng = np.random.default_rng(11)
     hist = lambda t: np.array([np.cos(t), 1.0 + 0 * t, np.sin(3 * t), 0.5 + 0 * t])  # noqa: E731
     sc = [Scenario(x0=hist if k == 0 else rng.normal(size=4), w=_w(rng.uniform(1, 10), rng.uniform(10, 100)),
                    noise=0.01 if k == 1 else None, seed=k) for k in range(4)]
-    res = simulate_batch(zb, sc, t_final=0.1, dt=dt, trajectories=True, segment_steps=60, exact_start=True)
+    res = simulate_batch(zb, sc, t_final=0.1, dt=dt, trajectories=True, segment_steps=60, exact_start=True,
+                         kernel=kernel)
     for k, s in enumerate(sc):
         r = simulate_observer(zb, t_final=0.1, dt=dt, w=s.w, x0=s.x0, noise=s.noise, seed=s.seed, exact_start=True,
                               check=False)
@@ -192,3 +199,33 @@ def test_exact_start_refuses_what_simulate_observer_refuses(zb):
         simulate_batch(zb, [Scenario(x_hat0=np.zeros(4))], t_final=0.01, dt=1e-3, exact_start=True)
     with pytest.raises(SimulationError, match="w: exact_start=True needs w as a callable"):
         simulate_batch(zb, [Scenario(), Scenario(w=[1.0, 0.0])], t_final=0.01, dt=1e-3, exact_start=True)
+
+
+@needs_numba
+@pytest.mark.parametrize("dt, perturb", [(1e-3, False), (5e-4, False), (1e-4, False), (1e-4, True)])
+def test_compiled_linear_loops_equal_numpy(zb, dt, perturb, monkeypatch):
+    """The compiled linear loops (plant recursion and quadrature, taps, observer recursion) give the
+    numpy path's x, y, x̂ to 1e-12 (paper 001; N = 10, 20, 100; callables and array inputs with a
+    jump at 0; perturbed plants); kernel="python" is the numpy path whatever UIO_RING_KERNEL says."""
+    from uio_ring.sim.plant import perturbed_plant
+
+    rng = np.random.default_rng(3)
+    base = paper001.system()
+    sc = [Scenario(x0=rng.normal(size=4), w=[1.0, -2.0] if k % 3 == 2 else _w(rng.uniform(1, 10), 40.0),
+                   noise=0.01 if k == 1 else None, seed=k, x_hat0=rng.normal(size=4) if k % 2 else None,
+                   plant=perturbed_plant(base, 0.05, k) if perturb and k else None) for k in range(9)]
+    kw = dict(t_final=0.08, dt=dt, trajectories=True, segment_steps=230)
+    import uio_ring.numeric.linear_kernel as lk
+
+    calls = []
+    for name in ("tap_sum", "scan_rows"):  # count the compiled loops' calls (the numba path runs them)
+        f = getattr(lk, name)
+        monkeypatch.setattr(lk, name, lambda *a, f=f, name=name: calls.append(name) or f(*a))
+    ref = simulate_batch(zb, sc, kernel="python", **kw)
+    assert not calls
+    res = simulate_batch(zb, sc, kernel="numba", **kw)
+    assert set(calls) == {"tap_sum", "scan_rows"}
+    for name in ("x", "y", "x_hat"):
+        a, b = getattr(res, name), getattr(ref, name)
+        assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b)), name
+    assert np.array_equal(res.metrics["t_converge"], ref.metrics["t_converge"], equal_nan=True)

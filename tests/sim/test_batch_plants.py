@@ -3,6 +3,7 @@ each on its own (perturbed) plant."""
 
 from __future__ import annotations
 
+import importlib.util
 import sys as _sys
 from dataclasses import replace
 from fractions import Fraction
@@ -56,8 +57,10 @@ def _check(des, runs, res, **kw):
             assert dev <= rel * scale, (k, name, dev)
 
 
+@pytest.mark.parametrize("kernel", ["python", pytest.param("numba", marks=pytest.mark.skipif(
+    importlib.util.find_spec("numba") is None, reason="numba is not installed"))])
 @pytest.mark.parametrize("dt, K", [(1e-3, 5), (5e-4, 9), (1e-4, 3)])  # N = 10 (super), 20 (sub), 100 (sub, m = 25)
-def test_zheng_bejarano_delay_plants(dt, K):
+def test_zheng_bejarano_delay_plants(dt, K, kernel):
     base = paper001.system()
     des = design_zheng_bejarano(base, poles=[-10, -25, -50])
     rng = np.random.default_rng(K)
@@ -65,7 +68,7 @@ def test_zheng_bejarano_delay_plants(dt, K):
     sc = [Scenario(x0=rng.normal(size=4), w=_w(rng.uniform(1, 10), rng.uniform(10, 100)), plant=p,
                    noise=0.01 if k % 3 == 1 else None, seed=k, x_hat0=rng.normal(size=4) if k % 2 else None)
           for k, p in enumerate(plants)]
-    res = simulate_batch(des, sc, t_final=0.1, dt=dt, trajectories=True, segment_steps=70)
+    res = simulate_batch(des, sc, t_final=0.1, dt=dt, trajectories=True, segment_steps=70, kernel=kernel)
     _check(des, list(zip(plants, sc, strict=True)), res, t_final=0.1, dt=dt)
 
 
@@ -114,8 +117,10 @@ def test_stacked_integrator_is_each_integrator(method, N):
         np.testing.assert_allclose(X[s], Xs, rtol=1e-13, atol=1e-13 * np.max(np.abs(Xs)))
 
 
+@pytest.mark.parametrize("kernel", ["python", pytest.param("numba", marks=pytest.mark.skipif(
+    importlib.util.find_spec("numba") is None, reason="numba is not installed"))])
 @pytest.mark.parametrize("N", [1, 2, 3, 20, 37, 100])
-def test_time_major_integration_is_the_block_maps(N):
+def test_time_major_integration_is_the_block_maps(N, kernel):
     """BlockIntegrator.run_rows (time-major, per step) gives the numbers of run (the block maps
     of its method) for S trajectories of one two-delay plant with inputs and end fixes."""
     from uio_ring.numeric.progress import Progress
@@ -129,7 +134,7 @@ def test_time_major_integration_is_the_block_maps(N):
     fix = rng.normal(size=(S_, nb, n))
     integ = BlockIntegrator(A, N, 0.01)
     Xr = np.ascontiguousarray(X.transpose(1, 0, 2))
-    integ.run_rows(Xr, np.ascontiguousarray(fin.transpose(1, 0, 2)), nb, end_fix=fix)
+    integ.run_rows(Xr, np.ascontiguousarray(fin.transpose(1, 0, 2)), nb, end_fix=fix, kernel=kernel)
     integ.run(X, fin, nb, Progress(1, False), end_fix=fix)
     np.testing.assert_allclose(Xr.transpose(1, 0, 2), X, rtol=1e-12, atol=1e-12 * np.max(np.abs(X)))
 

@@ -11,6 +11,9 @@ implementations: the Python one (numpy; always there) and a compiled one
 * else the environment variable ``UIO_RING_KERNEL``;
 * else ``"auto"``: numba when it can be imported, else Python.
 
+The same switch selects the compiled linear loops of ``simulate_batch``
+(:mod:`uio_ring.numeric.linear_kernel`: delayed taps, plant and linear-observer recursions).
+
 ``"numba"`` asked for explicitly without numba installed is an error naming the extra.
 The two backends agree up to rounding (the sliding modes amplify last-bit differences).
 

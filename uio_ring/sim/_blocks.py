@@ -36,7 +36,7 @@ import numpy as np
 from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
 from uio_ring.numeric.progress import Progress
 
-__all__ = ["BlockIntegrator", "block_integrator", "block_stencils", "scan_rows", "taps"]
+__all__ = ["BlockIntegrator", "block_integrator", "block_stencils", "scan_rows", "tap_rows", "taps"]
 
 DENSE_MAX_ENTRIES = 6_000_000
 SUB_MAX = 32  # largest sub-block (steps)
@@ -116,7 +116,24 @@ def taps(wins: list[np.ndarray], mats: list[np.ndarray]) -> np.ndarray:
     return out
 
 
-def scan_rows(PhiT: np.ndarray, x0: np.ndarray, G: np.ndarray) -> np.ndarray:
+def tap_rows(S: np.ndarray, starts: list[int], mats: list[np.ndarray], L: int, kernel: str = "python") -> np.ndarray:
+    """:func:`taps` of the windows ``S[s : s + L]`` (``s`` in ``starts``): ``(L, K, r)``; with
+    ``kernel="numba"`` one compiled pass (:func:`uio_ring.numeric.linear_kernel.tap_sum`).
+
+    >>> w = np.arange(6.0).reshape(3, 1, 2)
+    >>> tap_rows(w, [0, 1], [np.eye(2), 2 * np.eye(2)], 2)[:, 0].tolist()
+    [[4.0, 7.0], [10.0, 13.0]]
+    """
+    K = S.shape[1]
+    if kernel != "numba":
+        return taps([S[s : s + L] for s in starts], mats).reshape(L, K, mats[0].shape[1])
+    from uio_ring.numeric.linear_kernel import tap_sum
+
+    out = np.empty((L, K, mats[0].shape[1]))
+    return tap_sum(np.ascontiguousarray(S), np.array(starts, dtype=np.int64), np.ascontiguousarray(np.stack(mats)), out)
+
+
+def scan_rows(PhiT: np.ndarray, x0: np.ndarray, G: np.ndarray, kernel: str = "python") -> np.ndarray:
     """``x_{j+1} = Φ x_j + g_j`` in place: ``G`` ``(M, K, n)`` (time-major, K columns per step)
     becomes ``x_1 … x_M``; ``PhiT = Φᵀ``, ``x0`` ``(K, n)``.  One product per step carries the
     K columns (for K ≳ 8 cheaper than a chunked scan, whose products grow with the chunk).
@@ -126,6 +143,10 @@ def scan_rows(PhiT: np.ndarray, x0: np.ndarray, G: np.ndarray) -> np.ndarray:
     """
     if G.shape[0] == 0:
         return G
+    if kernel == "numba":  # one compiled loop (uio_ring.numeric.linear_kernel)
+        from uio_ring.numeric import linear_kernel
+
+        return linear_kernel.scan_rows(PhiT, x0, G)
     rows = list(G)  # the row views once; np.dot with out: the least overhead per step (measured)
     dot, add, tmp = np.dot, np.add, np.empty(G.shape[1:])
     prev = rows[0]
@@ -275,14 +296,16 @@ class BlockIntegrator:
             self._row_groups = groups
         return self._row_groups
 
-    def run_rows(self, X: np.ndarray, fin: np.ndarray, nblocks: int, end_fix: np.ndarray | None = None) -> None:
+    def run_rows(self, X: np.ndarray, fin: np.ndarray, nblocks: int, end_fix: np.ndarray | None = None,
+                 kernel: str = "python") -> None:
         """:meth:`run` for S trajectories of this plant, time-major: ``X`` ``(K N + nblocks N + 1, S, n)``,
         ``fin`` ``(nblocks N + 1, S, n)``, ``end_fix`` ``(S, nblocks, n)``; filled in place.
 
         Per block: the forcing on its N + 1 points (input plus delayed states, one product per
         delay), its quadrature (one product per stencil node and group of steps with the same
         nodes), then the N steps ``x_{r+1} = Φ x_r + g_r`` (:func:`scan_rows`): O(n²) per step
-        and trajectory, against O(m n²) for the sub-block maps of :meth:`run`.
+        and trajectory, against O(m n²) for the sub-block maps of :meth:`run`.  ``kernel="numba"``:
+        the products and steps by the compiled loops (:mod:`uio_ring.numeric.linear_kernel`).
         """
         N, K = self.N, self.K
         S_, n = X.shape[1], self.n
@@ -295,13 +318,16 @@ class BlockIntegrator:
             F = fin[a : a + N + 1].copy()  # f on the block's points
             if end_fix is not None:
                 F[N] += end_fix[:, k]
-            F2 = F.reshape((N + 1) * S_, n)
-            for i, Ai in enumerate(AT, start=1):
-                F2 += X[a + (K - i) * N : a + (K - i) * N + N + 1].reshape((N + 1) * S_, n) @ Ai
+            if kernel == "numba" and AT:
+                F += tap_rows(X, [a + (K - i) * N for i in range(1, K + 1)], AT, N + 1, kernel)
+            else:
+                F2 = F.reshape((N + 1) * S_, n)
+                for i, Ai in enumerate(AT, start=1):
+                    F2 += X[a + (K - i) * N : a + (K - i) * N + N + 1].reshape((N + 1) * S_, n) @ Ai
             G = np.empty((N, S_, n))
             for r0, r1, nodes, WT in groups:
-                G[r0:r1] = taps([F[r0 + q : r1 + q] for q in nodes], WT).reshape(r1 - r0, S_, n)
-            X[a + KN + 1 : a + KN + N + 1] = scan_rows(PhiT, X[a + KN], G)
+                G[r0:r1] = tap_rows(F, [r0 + q for q in nodes], WT, r1 - r0, kernel)
+            X[a + KN + 1 : a + KN + N + 1] = scan_rows(PhiT, X[a + KN], G, kernel)
 
     def step_block(self, window: np.ndarray, forcing: np.ndarray) -> np.ndarray:
         """One block from its window ``x((k−K) h) … x(k h)`` (``(K N + 1, n)``) and the input

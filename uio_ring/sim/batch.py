@@ -43,12 +43,13 @@ from typing import Any
 import numpy as np
 
 from uio_ring.errors import DimensionError, SimulationError
+from uio_ring.numeric.backend import resolve_kernel
 from uio_ring.numeric.expint import LinearScan
 from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
 from uio_ring.numeric.history import sample_history
 from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.threads import blas_single_thread
-from uio_ring.sim._blocks import StackedBlockIntegrator, block_integrator, scan_rows, taps
+from uio_ring.sim._blocks import StackedBlockIntegrator, block_integrator, scan_rows, tap_rows
 from uio_ring.sim.engine import shifted, warm_steps
 from uio_ring.sim.plant import SystemArrays
 from uio_ring.sim.signals import UniformNoise, as_noise, input_samples
@@ -162,13 +163,14 @@ class BatchResult:
 
 
 # ---------------------------------------------------------------------------------- kernels
-def _bsum(M: np.ndarray, S: np.ndarray, j0: int, j1: int, N: int, offset: int) -> np.ndarray:
+def _bsum(M: np.ndarray, S: np.ndarray, j0: int, j1: int, N: int, offset: int, kernel: str = "python") -> np.ndarray:
     """``Σ_i M_i s(t_j − i h)`` for ``j = j0 … j1`` and every scenario: ``(j1 − j0 + 1, K, rows)``.
 
     Time-major: ``S`` has shape ``(rows_S, K, cols)`` with ``S[offset + j] = s(t_j)``; ``M`` is
     ``(deg + 1, rows, cols)``, or ``(K, deg + 1, rows, cols)`` for one plant per scenario.  The
     delayed windows are laid side by side and multiplied by the stacked ``M_iᵀ`` in one
-    product (one pass over the output instead of one per delay).
+    product (one pass over the output instead of one per delay).  One matrix stack: :func:`tap_rows`
+    (``kernel="numba"``: one compiled pass).
     Precondition: every index is inside S, S C-contiguous (not checked).
     """
     L, K = j1 - j0 + 1, S.shape[1]
@@ -177,13 +179,13 @@ def _bsum(M: np.ndarray, S: np.ndarray, j0: int, j1: int, N: int, offset: int) -
     idx = [i for i in range(Mi.shape[0]) if np.any(Mi[i])]
     if not idx:
         return np.zeros((L, K, M.shape[-2]))
+    if not per:
+        return tap_rows(S, [offset + j0 - i * N for i in idx], [M[i].T for i in idx], L, kernel)
     wins = [S[offset + j0 - i * N : offset + j0 - i * N + L] for i in idx]
-    if per:  # time-major (L, K, Σ cols) times (K, Σ cols, rows), one matrix per scenario
-        stacked = wins[0] if len(wins) == 1 else np.concatenate(wins, axis=2)
-        Mst = np.concatenate([M[:, i].transpose(0, 2, 1) for i in idx], axis=1)
-        return np.einsum("lkc,kcr->lkr", stacked, Mst, optimize=True)  # (measured: ~10× a transposed matmul)
-    return taps(wins, [M[i].T for i in idx]).reshape(L, K, M.shape[1])
-
+    # time-major (L, K, Σ cols) times (K, Σ cols, rows), one matrix per scenario
+    stacked = wins[0] if len(wins) == 1 else np.concatenate(wins, axis=2)
+    Mst = np.concatenate([M[:, i].transpose(0, 2, 1) for i in idx], axis=1)
+    return np.einsum("lkc,kcr->lkr", stacked, Mst, optimize=True)  # (measured: ~10× a transposed matmul)
 
 
 def _scan_k(scan: LinearScan, x0: np.ndarray, g: np.ndarray) -> np.ndarray:
@@ -319,8 +321,10 @@ class _BatchInjection:
 class _BatchPlant:
     """The plant for K scenarios, one segment of whole blocks at a time."""
 
-    def __init__(self, S: SystemArrays, h: float, dt: float, n_steps: int, scenarios: Sequence[Scenario]):
+    def __init__(self, S: SystemArrays, h: float, dt: float, n_steps: int, scenarios: Sequence[Scenario],
+                 kernel: str = "python"):
         self.S, self.h = S, h
+        self.kernel = kernel  # "numba": the linear loops compiled (uio_ring.numeric.linear_kernel)
         self.N = N = steps_per_delay(h, dt)
         self.dt = dt
         self.n_steps = n_steps
@@ -394,7 +398,8 @@ class _BatchPlant:
         X[: KxN + 1] = self.Xtail
         W = self._inputs("w", S.n_w, a0 - KinN, a0 + nb * N)
         U = self._inputs("u", S.n_u, a0 - KinN, a0 + nb * N)
-        fin = _bsum(S.B, W, 0, nb * N, N, KinN) + _bsum(S.E, U, 0, nb * N, N, KinN)
+        kern = self.kernel
+        fin = _bsum(S.B, W, 0, nb * N, N, KinN, kern) + _bsum(S.E, U, 0, nb * N, N, KinN, kern)
         fix = None
         if self.Kin and b0 < self.Kin and np.any(self.end_fix):
             fix = np.zeros((K, nb, S.n_x))
@@ -402,7 +407,7 @@ class _BatchPlant:
             fix[:, :c] = self.end_fix[:, b0 : b0 + c]
         base = (self.Kx - self.KA) * N
         if self.rows:
-            self.integ.run_rows(X[base:], fin, nb, end_fix=fix)
+            self.integ.run_rows(X[base:], fin, nb, end_fix=fix, kernel=kern)
         else:  # the integrator's own layout, trajectory-major
             Xk = np.ascontiguousarray(X[base:].transpose(1, 0, 2))
             with Progress(nb, False, "plant") as bar:
@@ -412,8 +417,8 @@ class _BatchPlant:
         jhi = min(a0 + nb * N, self.n_steps)
         self.Xtail = X[nb * N :].copy()
         # rows of X: x(t_j) = X[KxN + j − a0]; of W, U: [KinN + j − a0]
-        Y = (_bsum(S.C, X, jlo, jhi, N, KxN - a0) + _bsum(S.D, W, jlo, jhi, N, KinN - a0)
-             + _bsum(S.F, U, jlo, jhi, N, KinN - a0))
+        Y = (_bsum(S.C, X, jlo, jhi, N, KxN - a0, kern) + _bsum(S.D, W, jlo, jhi, N, KinN - a0, kern)
+             + _bsum(S.F, U, jlo, jhi, N, KinN - a0, kern))
         nz = self._noise(S.n_y, jlo, jhi)
         if nz is not None:
             Y += nz
@@ -429,8 +434,9 @@ class _BatchObserver:
 
     Arrays are time-major, ``(steps, K, ·)``."""
 
-    def __init__(self, stepper: Any, scenarios: Sequence[Scenario], u_history: np.ndarray):
+    def __init__(self, stepper: Any, scenarios: Sequence[Scenario], u_history: np.ndarray, kernel: str = "python"):
         self.st = st = stepper
+        self.kernel = kernel  # "numba": the linear loops compiled (uio_ring.numeric.linear_kernel)
         self.scen = scenarios
         self.u_history = u_history  # (L, K, n_u): u at j = −L … −1
         self.Lt = st.history_length + 1
@@ -483,18 +489,19 @@ class _BatchObserver:
         Urows = np.concatenate([Ut, U], axis=0)
         off = Lt - jlo
         j1 = jlo + Sn - 1
-        G = _bsum(st.Gy, Yrows, jlo - 3, j1, N, off)  # G[j − jlo + 3] = g(t_j)
-        D = _bsum(st.Dy, Yrows, jlo, j1, N, off)
+        kern = self.kernel
+        G = _bsum(st.Gy, Yrows, jlo - 3, j1, N, off, kern)  # G[j − jlo + 3] = g(t_j)
+        D = _bsum(st.Dy, Yrows, jlo, j1, N, off, kern)
         if st.n_u:
-            G += _bsum(st.Gu, Urows, jlo - 3, j1, N, off)
-            D += _bsum(st.Du, Urows, jlo, j1, N, off)
+            G += _bsum(st.Gu, Urows, jlo - 3, j1, N, off, kern)
+            D += _bsum(st.Du, Urows, jlo, j1, N, off, kern)
         steps = np.arange(jlo - 1 if not first else 0, j1)  # the steps j → j + 1 of this segment
         Fq = self._forcing(G, steps, jlo)
         xi_prev = self._xi0(Yrows, Urows, off) if first else self.xi
         if self.binj is not None:
             Xi = self._loop(xi_prev, Fq, G, Yrows, Urows, off, steps, jlo)
         elif K >= 8 or steps.size <= 32:  # one small product per step carries K scenarios
-            Xi = scan_rows(self.PhiT, xi_prev, Fq)  # Fq is this segment's own array
+            Xi = scan_rows(self.PhiT, xi_prev, Fq, kern)  # Fq is this segment's own array
         else:
             assert self.scan is not None  # linear models have one
             Xi = _scan_k(self.scan, xi_prev, np.ascontiguousarray(Fq.transpose(1, 0, 2))).transpose(1, 0, 2)
@@ -505,8 +512,8 @@ class _BatchObserver:
         np.add(Xi, D, out=Zrows[self.pad :])
         Zrows[: self.pad] = Zrows[self.pad] if first else self.Ztail  # held at ẑ(0) before 0
         zoff = self.pad - jlo
-        xh = _bsum(st.X, Zrows, jlo, j1, N, zoff)
-        wh = None if st.Wm is None else _bsum(st.Wm, Zrows, jlo, j1, N, zoff)
+        xh = _bsum(st.X, Zrows, jlo, j1, N, zoff, kern)
+        wh = None if st.Wm is None else _bsum(st.Wm, Zrows, jlo, j1, N, zoff, kern)
         self.Ytail, self.Utail = Yrows[-Lt:].copy(), Urows[-Lt:].copy()
         self.Ztail = Zrows[Zrows.shape[0] - self.pad :].copy()
         return xh, wh
@@ -522,7 +529,7 @@ class _BatchObserver:
         g0 = int(steps[0]) - (jlo - 3)  # G index of g(t_j) for the first step
 
         def stencil(shifts: tuple[int, ...], W: np.ndarray) -> np.ndarray:  # one product per node
-            return taps([G[g0 + sh : g0 + sh + M] for sh in shifts], [Wm.T for Wm in W])
+            return tap_rows(G, [g0 + sh for sh in shifts], [Wm.T for Wm in W], M, self.kernel)
 
         Wf = st.W_first
         if st.cubic:
@@ -832,7 +839,10 @@ def simulate_batch(
         to disk with bounded memory: the segment's arrays are not kept).
     kernel : str, optional
         Backend of the observer's step loop (injection terms), as in :func:`simulate_observer`:
-        with numba, one compiled loop over the K scenarios and their steps.
+        with numba, one compiled loop over the K scenarios and their steps; numba also runs the
+        linear loops of an open loop (the plant's time-major steps and quadrature, the delayed
+        taps, a linear observer's recursion: :mod:`uio_ring.numeric.linear_kernel`), which
+        agree with numpy's up to rounding.
     exact_start : bool
         As in :func:`simulate_observer`: every plant starts earlier (whole blocks of h; w and u
         callables or None, shifted), and the observer gets the true past of y and u and its
@@ -907,21 +917,22 @@ def simulate_batch(
     if feedback is not None and len(groups) > 1:
         raise SimulationError("plant_h: a closed loop runs delay-free plants (one h)")
     n_plant = n_steps + s0
+    lin = resolve_kernel(stepper.kernel_option)  # the linear loops of plant and observer too
     with blas_single_thread():
         bp: _BatchPlant | _PlantGroups
         if len(groups) == 1:
             ph = groups[0][0]
-            bp = _BatchPlant(S, ph, dtv, n_plant, plant_scen)
+            bp = _BatchPlant(S, ph, dtv, n_plant, plant_scen, lin)
         else:
             bp = _PlantGroups([_BatchPlant(_plant_arrays(sys, [plant_scen[k] for k in ks]), h, dtv, n_plant,
-                                           [plant_scen[k] for k in ks]) for h, ks in groups],
+                                           [plant_scen[k] for k in ks], lin) for h, ks in groups],
                               [ks for _, ks in groups], plant_scen)
         L = stepper.history_length
         uh = np.zeros((L, K, model.n_u))
         if model.n_u and not exact_start and feedback is None:
             for k, sc in enumerate(scen):
                 uh[:, k] = input_samples(sc.u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=dtv, name="u").T
-        bo = _BatchObserver(stepper, scen, uh)
+        bo = _BatchObserver(stepper, scen, uh, lin)
         tf = n_steps * dtv
         met = _Metrics(K, dtv, tolv, divv, tf / 2 if settle is None else float(settle))
         width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4

@@ -1,0 +1,97 @@
+"""Compiled (numba) loops of the linear parts of a batch segment: delayed-tap sums and recursions.
+
+``simulate_batch`` spends most of a linear observer's time in products with a handful of
+columns over time-major arrays ``(rows, K, c)`` (the plant's and the observer's delayed
+taps, the stencils of the quadratures) and in the recursions ``x_{j+1} = Φ x_j + g_j``
+(one ``(K, n) @ (n, n)`` product per step).  In numpy each is one call per tap and per
+step over memory; here each is one compiled pass:
+
+* :func:`tap_sum`: ``out[l] = Σ_i S[starts[i] + l] @ M[i]`` (every output row written once);
+* :func:`scan_rows`: ``x_{j+1} = x_j Φᵀ + g_j`` in place.
+
+The scenarios are the innermost loop (independent sums, which pipeline and vectorise);
+zero coefficients are skipped (so a 0 · ∞ of a diverged run is not a NaN here).
+
+The numpy versions (:func:`uio_ring.sim._blocks.taps`, :func:`uio_ring.sim._blocks.scan_rows`)
+are the reference; the two agree up to rounding (summation order).  Selected by the
+``kernel`` switch (:mod:`uio_ring.numeric.backend`); numba is the optional extra ``fast``,
+imported on the first call, the loops cached on disk (``cache=True``).
+
+>>> import numpy as np
+>>> S = np.arange(6.0).reshape(3, 1, 2)
+>>> out = np.empty((2, 1, 2))
+>>> tap_sum(S, np.array([0, 1]), np.stack([np.eye(2), 2 * np.eye(2)]), out)[:, 0].tolist()
+[[4.0, 7.0], [10.0, 13.0]]
+>>> G = np.zeros((3, 1, 1)); scan_rows(np.array([[0.5]]), np.array([[1.0]]), G)[:, 0, 0].tolist()
+[0.5, 0.25, 0.125]
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import Any
+
+import numpy as np
+
+__all__ = ["tap_sum", "scan_rows"]
+
+
+
+def tap_sum(S: np.ndarray, starts: np.ndarray, M: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """``out[l, k] = Σ_i S[starts[i] + l, k] @ M[i]`` for ``l < len(out)``; returns ``out``.
+
+    ``S`` ``(R, K, c)``, ``M`` ``(m, c, r)`` (row-vector form: the transposed coefficients),
+    ``out`` ``(L, K, r)``; float64, C-contiguous ``S``, ``M``, ``out`` (``starts`` int64).
+    Precondition: every row read is inside ``S`` (not checked).
+    """
+    _compiled()[0](S, np.asarray(starts, dtype=np.int64), M, out)
+    return out
+
+
+def scan_rows(PhiT: np.ndarray, x0: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """:func:`uio_ring.sim._blocks.scan_rows` compiled: ``G`` ``(M, K, n)`` becomes ``x_1 … x_M``
+    in place (``x_{j+1} = x_j Φᵀ + g_j``, ``x0`` ``(K, n)``); C-contiguous float64 ``G``."""
+    if G.shape[0]:
+        _compiled()[1](np.ascontiguousarray(PhiT), np.ascontiguousarray(x0), G)
+    return G
+
+
+@functools.cache
+def _compiled() -> tuple[Any, Any]:
+    from uio_ring.errors import require
+
+    numba = require("numba", extra="fast")
+    jit = numba.njit(cache=True, nogil=True)  # one thread: prange measured no faster on 2 busy cores
+    return jit(_tap_loop), jit(_scan_loop)
+
+
+# The loops below are compiled by numba (nopython mode): plain loops over plain arrays, the
+# scenarios innermost (independent sums over K rows: they pipeline, where sums over a handful
+# of columns would wait on each other).
+def _tap_loop(S, starts, M, out):  # pragma: no cover
+    L, K, r = out.shape
+    m, c = M.shape[0], M.shape[1]
+    for l in range(L):  # noqa: E741
+        o = out[l]
+        o[:, :] = 0.0
+        for i in range(m):
+            src = S[starts[i] + l]
+            for q in range(c):
+                for j in range(r):
+                    w = M[i, q, j]
+                    if w != 0.0:
+                        for k in range(K):
+                            o[k, j] += w * src[k, q]
+
+
+def _scan_loop(PhiT, x0, G):  # pragma: no cover
+    Mn, K, n = G.shape
+    for s in range(Mn):
+        prev = x0 if s == 0 else G[s - 1]
+        cur = G[s]
+        for q in range(n):
+            for j in range(n):
+                w = PhiT[q, j]
+                if w != 0.0:
+                    for k in range(K):
+                        cur[k, j] += prev[k, q] * w
