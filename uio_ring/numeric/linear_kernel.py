@@ -66,22 +66,29 @@ def _compiled() -> tuple[Any, Any]:
 
 
 # The loops below are compiled by numba (nopython mode): plain loops over plain arrays, the
-# scenarios innermost (independent sums over K rows: they pipeline, where sums over a handful
-# of columns would wait on each other).
+# scenarios innermost (independent sums over K rows: they pipeline and vectorise, where sums
+# over a handful of columns would wait on each other; measured 2× on paper 001's taps).
 def _tap_loop(S, starts, M, out):  # pragma: no cover
     L, K, r = out.shape
     m, c = M.shape[0], M.shape[1]
+    col, acc = np.empty(K), np.empty((r, K))  # one input column, the output row: scenarios contiguous
     for l in range(L):  # noqa: E741
-        o = out[l]
-        o[:, :] = 0.0
+        acc[:, :] = 0.0
         for i in range(m):
             src = S[starts[i] + l]
             for q in range(c):
+                for k in range(K):
+                    col[k] = src[k, q]
                 for j in range(r):
                     w = M[i, q, j]
                     if w != 0.0:
+                        a = acc[j]
                         for k in range(K):
-                            o[k, j] += w * src[k, q]
+                            a[k] += w * col[k]
+        o = out[l]
+        for k in range(K):
+            for j in range(r):
+                o[k, j] = acc[j, k]
 
 
 def _scan_loop(PhiT, x0, G):  # pragma: no cover
