@@ -75,30 +75,38 @@ def _tap_loop(S, starts, M, out):  # pragma: no cover
     for l in range(L):  # noqa: E741
         acc[:, :] = 0.0
         for i in range(m):
-            src = S[starts[i] + l]
+            row = starts[i] + l
             for q in range(c):
                 for k in range(K):
-                    col[k] = src[k, q]
+                    col[k] = S[row, k, q]
                 for j in range(r):
                     w = M[i, q, j]
                     if w != 0.0:
-                        a = acc[j]
                         for k in range(K):
-                            a[k] += w * col[k]
-        o = out[l]
+                            acc[j, k] += w * col[k]
         for k in range(K):
             for j in range(r):
-                o[k, j] = acc[j, k]
+                out[l, k, j] = acc[j, k]
 
 
 def _scan_loop(PhiT, x0, G):  # pragma: no cover
     Mn, K, n = G.shape
+    x = np.empty((n, K))  # the state, scenarios contiguous
+    for k in range(K):
+        for q in range(n):
+            x[q, k] = x0[k, q]
+    acc = np.empty((n, K))
     for s in range(Mn):
-        prev = x0 if s == 0 else G[s - 1]
-        cur = G[s]
+        for j in range(n):
+            for k in range(K):
+                acc[j, k] = G[s, k, j]
         for q in range(n):
             for j in range(n):
                 w = PhiT[q, j]
                 if w != 0.0:
                     for k in range(K):
-                        cur[k, j] += prev[k, q] * w
+                        acc[j, k] += x[q, k] * w
+        for j in range(n):
+            for k in range(K):
+                x[j, k] = acc[j, k]
+                G[s, k, j] = acc[j, k]
