@@ -36,7 +36,6 @@ import numpy as np
 __all__ = ["tap_sum", "scan_rows"]
 
 
-
 def tap_sum(S: np.ndarray, starts: np.ndarray, M: np.ndarray, out: np.ndarray) -> np.ndarray:
     """``out[l, k] = Σ_i S[starts[i] + l, k] @ M[i]`` for ``l < len(out)``; returns ``out``.
 
