@@ -12,8 +12,10 @@ is exactly K_i — the Popov basis is the reduced Gröbner basis of the kernel
 for that order.  So:
 
 1. V_D is the nullspace of the block-Toeplitz (Sylvester) matrix of the map
-   ``(x_0, …, x_D) ↦ coefficients of x·M``; its reduced echelon basis comes
-   from ``fmpz_mat.nullspace`` and one small ``rref`` (python-flint, in C).
+   ``(x_0, …, x_D) ↦ coefficients of x·M``.  The generators of its reduced echelon
+   basis come from the column rank profile modulo a word prime and one exact square
+   solve, certified exactly (:mod:`uio_ring.ring._kernel_lead`); when that prime is
+   unlucky, from ``fmpz_mat.nullspace`` and one ``rref`` (python-flint, in C).
 2. The generators are the basis vectors led by δ^e·e_j with δ^(e−1)·e_j not a
    leading monomial.  There are m − rank M of them iff D ≥ max d_i; the rank is
    exact (:func:`~uio_ring.ring._predicates.rank_raw`), so the count proves
@@ -24,9 +26,9 @@ for that order.  So:
 This is the linear-algebra view of minimal bases (Forney 1975, §4; the block
 Toeplitz nullity sequence gives the minimal indices — Beelen & Van Dooren,
 "A pencil approach for embedding a polynomial matrix into a unimodular
-matrix", SIAM J. Matrix Anal. Appl. 9 (1988)).  Cost: one integer nullspace
-of a (n·(D + deg M + 1)) × (m·(D + 1)) matrix, O(N³) word operations per
-prime of flint's multimodular elimination with N = m·(D + 1); for a tall
+matrix", SIAM J. Matrix Anal. Appl. 9 (1988)).  Cost: one rank profile modulo p of
+the (n·(D + deg M + 1)) × (m·(D + 1)) Toeplitz matrix, O(N³) word operations with
+N = m·(D + 1), and one square solve over Z by p-adic lifting (Dixon 1982); for a tall
 (n+4)×n matrix of degree 2 the minimal indices are ≈ n/2, so N ≈ n²/2.  When
 N would exceed :data:`MAX_UNKNOWNS`, or M has fewer than :data:`TOEPLITZ_MIN_ROWS`
 rows, the callers use elimination instead.
@@ -45,6 +47,7 @@ import flint
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
+from uio_ring.ring._kernel_lead import generators_by_lead_solve
 from uio_ring.ring._predicates import rank_raw
 
 __all__ = ["popov_left_kernel", "solve_reduced", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
@@ -148,7 +151,8 @@ def popov_left_kernel(
     D = min(-(-bound // k), d_cap)
     while True:
         # Invariant: every d_i ≤ D has its generator in `gens`; the others exceed D.
-        gens = _exact_generators(mi, m, n, dm, D)
+        lead = generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D, None), n * (D + dm + 1), m * (D + 1), m)
+        gens = _exact_generators(mi, m, n, dm, D) if lead is None else lead
         if len(gens) == k:
             break
         found = sum(i // m for i, _ in gens)

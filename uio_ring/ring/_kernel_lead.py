@@ -1,0 +1,108 @@
+"""Popov rows of a left kernel from the leading monomials modulo a prime and one exact
+square solve, certified exactly.
+
+Notation of :mod:`uio_ring.ring._kernel_basis`: ``T_D`` is the block-Toeplitz matrix of
+``x ↦ x·M`` on vectors of degree ≤ D, its columns indexed by the monomials δ^e·e_j in
+the order (e, j), and V_D its nullspace.  A column is a *pivot* (not a combination of
+the columns before it) iff no vector of V_D has that monomial as its greatest one, so
+the leading monomials of V_D are the non-pivot columns, and its reduced echelon vector
+led by δ^(d_i)·e_(π_i) is ``δ^(d_i) e_(π_i) − x_i`` with x_i supported on the pivot
+columns below it: ``T_D[:, P]·x_i = T_D[:, (d_i, π_i)]``.
+
+The column rank profile of ``T_D`` is computed modulo the word prime 2⁶¹ − 1
+(``nmod_mat.rref``, O(N³) word operations for N = m·(D + 1), no coefficient growth),
+and all generators come from one square system over Z with the pivot columns as
+unknowns and one right-hand side per generator (``fmpq_mat.solve``: flint's p-adic
+lifting, Dixon 1982, about O(N³ + N²·(log‖T‖ + output size)) bit operations), instead
+of a fraction-free nullspace of the whole ``T_D`` followed by a rational echelon form.
+
+Certificate (checked, or None is returned).  Modulo p the rank can only drop, so
+``lead_Q ⊆ lead_p`` and ``dim V_D ≤ |lead_p|``; both sets are closed under the shift
+δ·, so ``|lead_p| = Σ_i (D − d_i + 1)`` over its generators.  Each returned row is an
+exact kernel vector (``T_D·g = 0`` checked over Z) whose greatest monomial is its
+generator (the solution's entries above it are checked to be zero); their shifts
+δ^s·g_i (s ≤ D − d_i) have distinct leading monomials, so ``dim V_D ≥ |lead_p|``.
+Hence ``lead_Q = lead_p`` and the rows are exactly the reduced echelon vectors of V_D
+that :func:`~uio_ring.ring._kernel_basis.popov_left_kernel` needs (its completeness
+argument — m − rank M generators — is unchanged).  An unlucky prime shows up as a
+failed solve or check, never as a wrong answer.
+
+>>> from uio_ring.ring._kernel_basis import _integer_coefficients, _toeplitz_entries
+>>> from uio_ring.ring.matrix import PolyMatrix
+>>> M = PolyMatrix("[[1], [d], [d**2]]")        # 3×1 of degree 2; vectors of degree ≤ 1
+>>> T = _toeplitz_entries(_integer_coefficients(M._r, 3, 1), 3, 1, 2, 1, None)
+>>> gens = generators_by_lead_solve(T, 4, 6, 3)
+>>> [(idx, [str(c) for c in g]) for idx, g in gens]   # δ·e_0 − e_1 and δ·e_1 − e_2
+[(3, ['0', '-1', '0', '1', '0', '0']), (4, ['0', '0', '-1', '0', '1', '0'])]
+"""
+
+from __future__ import annotations
+
+import flint
+
+__all__ = ["generators_by_lead_solve", "pivot_columns_mod_p"]
+
+#: The word prime of the rank profiles (2⁶¹ − 1).
+PRIME = (1 << 61) - 1
+
+
+def pivot_columns_mod_p(entries: list[int], rows: int, cols: int, p: int = PRIME) -> list[int]:
+    """The pivot columns (column rank profile, left to right) of the rows × cols integer
+    matrix with row-major ``entries``, modulo p.
+
+    >>> pivot_columns_mod_p([1, 2, 3, 2, 4, 7], 2, 3)
+    [0, 2]
+    """
+    red, rank = flint.nmod_mat(rows, cols, [x % p for x in entries], p).rref()
+    pivots = []
+    r = 0
+    for c in range(cols):
+        if r < rank and red[r, c] != 0:
+            pivots.append(c)
+            r += 1
+    return pivots
+
+
+def generators_by_lead_solve(
+    full: list[int], rows: int, cols: int, m: int, p: int = PRIME
+) -> list[tuple[int, list[flint.fmpq]]] | None:
+    """The reduced echelon vectors of V_D that are Popov rows, as (leading index e·m + j,
+    coefficient vector indexed e·m + j), certified as in the module text; None when the
+    prime p was unlucky (the caller then computes them another way).
+    Precondition: ``full`` holds the row-major integer entries of ``T_D`` (rows × cols,
+    columns in the order (e, j), m of them per degree), as built by
+    :func:`~uio_ring.ring._kernel_basis._toeplitz_entries` (not checked)."""
+    pivots = pivot_columns_mod_p(full, rows, cols, p)
+    is_pivot = [False] * cols
+    for c in pivots:
+        is_pivot[c] = True
+    gens = [c for c in range(cols) if not is_pivot[c] and (c < m or is_pivot[c - m])]
+    if not gens:
+        return []
+    if not pivots:  # M = 0 in these degrees: every monomial is a kernel vector
+        return [(c, [flint.fmpq(int(i == c)) for i in range(cols)]) for c in gens]
+    # rows of T_D[:, P] making a square system nonsingular modulo p (hence over Q)
+    chosen = pivot_columns_mod_p([full[r * cols + c] for c in pivots for r in range(rows)], len(pivots), rows, p)
+    if len(chosen) < len(pivots):  # pragma: no cover - T_D[:, P] has full column rank mod p
+        return None
+    sq = flint.fmpz_mat(len(pivots), len(pivots), [full[r * cols + c] for r in chosen for c in pivots])
+    rhs = flint.fmpz_mat(len(pivots), len(gens), [full[r * cols + c] for r in chosen for c in gens])
+    snum, sden = flint.fmpq_mat(sq).solve(flint.fmpq_mat(rhs)).numer_denom()
+    # exact check of the whole system: T_D[:, P]·x = T_D[:, gens] (that is, g·M = 0)
+    tp = flint.fmpz_mat(rows, len(pivots), [full[r * cols + c] for r in range(rows) for c in pivots])
+    tg = flint.fmpz_mat(rows, len(gens), [full[r * cols + c] for r in range(rows) for c in gens])
+    if tp * snum != tg * sden:
+        return None
+    qden = flint.fmpq(sden)
+    out = []
+    for v, c in enumerate(gens):
+        vec = [flint.fmpq(0)] * cols
+        for i, pc in enumerate(pivots):
+            x = snum[i, v]
+            if x != 0:
+                if pc > c:
+                    return None  # the greatest monomial would not be the generator
+                vec[pc] = -flint.fmpq(x) / qden
+        vec[c] = flint.fmpq(1)
+        out.append((c, vec))
+    return out
