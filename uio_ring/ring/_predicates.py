@@ -13,7 +13,8 @@ Rank
     ≤ b_k, see :func:`~uio_ring.ring._evaluation.minor_degree_bound`) vanishes at
     no more than b_k points.  So if ``b_{r+1} + 1`` distinct points all give rank
     ≤ r while some point gives r, the rank is exactly r.  Evaluation stops at
-    once when the rank reaches min(m, n).
+    once when the rank reaches min(m, n); δ = 0 comes first, from the constant
+    coefficients alone.
 Determinant
     Bareiss' fraction-free elimination over Z[δ] (:mod:`uio_ring.ring._fraction_free`)
     for small n, high degree or large coefficients; otherwise ``det M(x)`` at
@@ -49,8 +50,10 @@ def rank_raw(a: dn.Rows, m: int, n: int) -> int:
     Precondition: ``a`` has shape m×n (not checked)."""
     if m == 0 or n == 0 or all(p.is_zero() for r in a for p in r):
         return 0
-    coeffs = ev.coefficient_mats(a, m, n)
     top = min(m, n)
+    if bk.mat_rank(flint.fmpq_mat(m, n, [p[0] for r in a for p in r])) == top:
+        return top  # rank M(0) ≤ rank M ≤ min(m, n); M(0) needs no other coefficient
+    coeffs = ev.coefficient_mats(a, m, n)
     best = 0
     needed = ev.minor_degree_bound(a, m, n, 1) + 1
     used = 0

@@ -71,12 +71,12 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     stopped as soon as its coefficients swell (:mod:`~uio_ring.ring.hermite`: cheap
     on columns of a unimodular matrix; X is then the top of the Hermite transform,
     reduced modulo the Popov kernel taken from its own kernel rows).  Otherwise, or
-    when it stops: a tall M of full column rank whose maximal minors are proved coprime
-    modulo a prime (two compressed minors,
-    :func:`~uio_ring.ring._predicates.coprime_maximal_minors` with ``exact=False``), or
-    that is not refused by two degree bounds of the same solver, gets X from
+    when it stops: X from
     one square block-Toeplitz system (:func:`~uio_ring.ring._kernel_basis.solve_reduced`,
-    checked exactly) and the Popov kernel from one Toeplitz nullspace; otherwise
+    checked exactly; two degree bounds, or as many as needed when the maximal minors
+    are proved coprime modulo a prime: two compressed minors,
+    :func:`~uio_ring.ring._predicates.coprime_maximal_minors` with ``exact=False``)
+    and the Popov kernel from one Toeplitz nullspace; otherwise
     Euclidean elimination with a unimodular transform, then Popov division of its
     first n rows by the kernel basis.
 
@@ -97,14 +97,16 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         small = _hermite_by_small_elimination(M)
         if small is not None and small.H[:n, :] == PolyMatrix.identity(n, M.var):
             return small.U[:n, :]
-        # Either the minors are proved coprime, or one bounded attempt: a returned X is
-        # checked exactly (X·M = I), which itself proves that M is left unimodular.
-        proved = coprime_maximal_minors(M._r, m, n, exact=False)
+        # A returned X is checked exactly (X·M = I), which itself proves that M is left
+        # unimodular: two degree bounds first, and all of them only when the minors are
+        # proved coprime (the proof costs more than the usual first solve).
         K = popov_left_kernel(M._r, m, n)
-        X = (solve_reduced(M._r, m, n, K, dn.identity(n), tries=None if proved else 2)
-             if K is not None else None)
-        if X is not None:
-            return PolyMatrix._new(X, n, m, M.var)
+        if K is not None:
+            X = solve_reduced(M._r, m, n, K, dn.identity(n), tries=2)
+            if X is None and coprime_maximal_minors(M._r, m, n, exact=False):
+                X = solve_reduced(M._r, m, n, K, dn.identity(n))
+            if X is not None:
+                return PolyMatrix._new(X, n, m, M.var)
     u = dn.identity(m)
     a, pivots, units = _echelon_unit_pivots(M, u)
     if len(pivots) < n:
