@@ -15,6 +15,7 @@ from collections.abc import Sequence
 import flint
 
 from uio_ring.ring import _backend as bk
+from uio_ring.ring._kronecker import matmul_kronecker
 
 Rows = list[list[flint.fmpq_poly]]
 
@@ -50,8 +51,17 @@ def zeros(m: int, n: int) -> Rows:
     return [[z] * n for _ in range(m)]
 
 
+#: From this many entry products (m·k·n) on, :func:`matmul` uses Kronecker substitution.
+KRONECKER_MIN_PRODUCTS = 512
+
+
 def matmul(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
-    """``a @ b`` for a (m×k) and b (k×n). Precondition: shapes fit (not checked)."""
+    """``a @ b`` for a (m×k) and b (k×n): entry by entry, or from
+    ``KRONECKER_MIN_PRODUCTS`` entry products on by one integer matrix product
+    (:func:`~uio_ring.ring._kronecker.matmul_kronecker`).
+    Precondition: shapes fit (not checked)."""
+    if m * k * n >= KRONECKER_MIN_PRODUCTS:
+        return matmul_kronecker(a, b, m, k, n)
     z = bk.ZERO
     out = []
     bt = [[b[t][j] for t in range(k)] for j in range(n)] if k else [[] for _ in range(n)]

@@ -1,0 +1,34 @@
+"""The product by Kronecker substitution (:mod:`uio_ring.ring._kronecker`) against the
+entry-by-entry product: equal exactly, rational coefficients, signs and zeros included."""
+
+from __future__ import annotations
+
+from hypothesis import given
+from hypothesis import strategies as st
+
+from uio_ring.ring import PolyMatrix
+from uio_ring.ring import _dense as dn
+from uio_ring.ring._kronecker import matmul_kronecker
+
+from .strategies import dense_matrices
+
+
+def _entrywise(a: PolyMatrix, b: PolyMatrix) -> list:
+    m, k, n = a.rows, a.cols, b.cols
+    return [[sum((a._r[i][t] * b._r[t][j] for t in range(k)), dn.bk.ZERO) for j in range(n)] for i in range(m)]
+
+
+@given(st.tuples(st.integers(1, 5), st.integers(1, 5), st.integers(1, 5)).flatmap(
+    lambda s: st.tuples(dense_matrices(rows=s[0], cols=s[1]), dense_matrices(rows=s[1], cols=s[2]))))
+def test_kronecker_product_equals_entrywise_product(ab):
+    a, b = ab
+    assert matmul_kronecker(a._r, b._r, a.rows, a.cols, b.cols) == _entrywise(a, b)
+
+
+def test_kronecker_product_large_coefficients_and_high_degree():
+    a = PolyMatrix([["(2**200 + 1)*d**40 - 3/7", "-(2**100)*d"], ["0", "d**3 - 2**150/11"]])
+    b = PolyMatrix([["-(2**90 - 1)*d**7 + 1", "0"], ["d**50/(2**70 + 1)", "-1"]])
+    assert matmul_kronecker(a._r, b._r, 2, 2, 2) == _entrywise(a, b)
+    assert (a @ b)._r == _entrywise(a, b)
+    big = PolyMatrix([[f"{(-1) ** (i + j)}*d**{i} + {j}/3" for j in range(12)] for i in range(12)])
+    assert (big @ big)._r == _entrywise(big, big)  # 12³ products: the Kronecker path

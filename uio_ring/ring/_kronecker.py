@@ -1,0 +1,83 @@
+"""Product of polynomial matrices over Q[δ] by Kronecker substitution: one integer
+matrix product in C.
+
+Clear denominators by a scale per row of A and per column of B (``A = D_A⁻¹·Â``,
+``B = B̂·D_B⁻¹`` with Â, B̂ over Z[δ]), substitute ``δ = 2^s`` into every entry, multiply
+the two integer matrices (``fmpz_mat`` product: flint's classical, Strassen or
+multimodular algorithm, in C), and read each entry of ``Â(2^s)·B̂(2^s)`` back as the
+base-2^s digits of ``(Â·B̂)(δ)``.  The digits are exact when every coefficient of
+``Â·B̂`` has absolute value < 2^(s−1): with ``|â| < 2^α``, ``|b̂| < 2^β`` and k terms
+of at most ``1 + min(deg Â, deg B̂)`` products each, ``s = α + β + bitlen(k·(1 + min
+deg)) + 2`` suffices (rounded up to whole bytes).  Adding 2^(s−1) to every digit makes
+them all non-negative, so the digits are byte slices of one integer.  (Kronecker 1882;
+Schönhage 1982; von zur Gathen & Gerhard, *Modern Computer Algebra*, §8.4.)
+
+Cost: one m×k by k×n integer product with entries of about ``(1 + deg)·s`` bits, and
+O(m·k + k·n + m·n) Python steps to pack and unpack — against m·k·n polynomial
+products, each a Python call, in the entry-by-entry loop (a 9×32 by 32×32 product of
+degree 1: 19 ms → 2 ms).
+
+>>> from uio_ring.ring import _backend as bk
+>>> d = bk.from_coeffs([0, 1])
+>>> a = [[d + 1, bk.const(-2)]]
+>>> b = [[d - 1], [d / 3]]
+>>> bk.to_str(matmul_kronecker(a, b, 1, 2, 1)[0][0], "d")    # (δ + 1)(δ − 1) − 2δ/3
+'d**2 - 2*d/3 - 1'
+"""
+
+from __future__ import annotations
+
+import flint
+
+from uio_ring.ring import _backend as bk
+
+__all__ = ["matmul_kronecker"]
+
+Rows = list[list[flint.fmpq_poly]]
+
+
+def _lcm_denominators(polys: list[flint.fmpq_poly]) -> flint.fmpz:
+    c = flint.fmpz(1)
+    for p in polys:
+        q = p.denom()
+        if q != 1:
+            c = c * q // c.gcd(q)
+    return c
+
+
+def matmul_kronecker(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
+    """``a @ b`` for a (m×k) and b (k×n), exactly (see the module text).
+    Precondition: shapes fit, m, k, n ≥ 1 (not checked)."""
+    row_scale = [_lcm_denominators(a[i]) for i in range(m)]
+    col_scale = [_lcm_denominators([b[t][j] for t in range(k)]) for j in range(n)]
+    an = [[(a[i][t] * row_scale[i]).numer() for t in range(k)] for i in range(m)]
+    bn = [[(b[t][j] * col_scale[j]).numer() for j in range(n)] for t in range(k)]
+    da = max((p.degree() for r in an for p in r), default=-1)
+    db = max((p.degree() for r in bn for p in r), default=-1)
+    if da < 0 or db < 0:
+        return [[bk.ZERO] * n for _ in range(m)]
+    alpha = max(abs(c).bit_length() for r in an for p in r for c in p.coeffs()) if da >= 0 else 0
+    beta = max(abs(c).bit_length() for r in bn for p in r for c in p.coeffs()) if db >= 0 else 0
+    s = alpha + beta + (k * (1 + min(da, db))).bit_length() + 2
+    s = -(-s // 8) * 8
+    x = flint.fmpz(1) << s
+    pa = flint.fmpz_mat(m, k, [p(x) for r in an for p in r])
+    pb = flint.fmpz_mat(k, n, [p(x) for r in bn for p in r])
+    prod = pa * pb
+    digits = da + db + 1
+    nbytes = s // 8
+    half = 1 << (s - 1)
+    offset = sum(half << (s * e) for e in range(digits))
+    out: Rows = []
+    for i in range(m):
+        row = []
+        for j in range(n):
+            v = int(prod[i, j])
+            if v == 0:
+                row.append(bk.ZERO)
+                continue
+            raw = (v + offset).to_bytes(nbytes * digits, "little")
+            cs = [int.from_bytes(raw[e * nbytes:(e + 1) * nbytes], "little") - half for e in range(digits)]
+            row.append(flint.fmpq_poly(cs, row_scale[i] * col_scale[j]))
+        out.append(row)
+    return out
