@@ -621,10 +621,14 @@ def _ranked_assemblies(sys: DelaySystem, finalists: list[_Candidate], budget: in
             if len(out) >= budget:
                 break
             C_bar = (Lam @ s12.C_tilde)[0:r, 0:n]
-            rows = [C_bar]
-            for _k in range(l_star):
-                rows.append(rows[-1] @ s12.A_bar)
-            O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
+            if C_bar == cand.index.O[0:r, 0:n]:  # Ō_{l*} of stage 1 (the Hermite Λ): reused
+                O = cand.index.O
+                CAl = O[(l_star - 1) * r : l_star * r, 0:n] @ s12.A_bar
+            else:
+                rows = [C_bar]
+                for _k in range(l_star):
+                    rows.append(rows[-1] @ s12.A_bar)
+                O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
             OL = left_inverse(O)
             for f_label in ("F reduced modulo the left kernel of Ō", "F by (16) with the reduced left inverse of Ō"):
                 if len(out) >= budget:

@@ -1,5 +1,9 @@
 """The characteristic polynomial of a constant matrix, exactly.
 
+flint's ``fmpq_mat.charpoly`` (in C: the Hessenberg or Berkowitz method over Z after
+clearing one denominator, O(n³)–O(n⁴) operations on integers) — a 216×216 observer
+matrix takes milliseconds, where ``det(sI − M)`` as a polynomial determinant took minutes.
+
 >>> charpoly(PolyMatrix("[[0, 1], [-2, -3]]"))
 s**2 + 3*s + 2
 """
@@ -7,6 +11,8 @@ s**2 + 3*s + 2
 from __future__ import annotations
 
 from typing import Any
+
+import flint
 
 from uio_ring.ring.errors import DomainError
 from uio_ring.ring.matrix import Poly, PolyMatrix
@@ -27,7 +33,5 @@ def charpoly(M: Any, var: str = "s") -> Poly:
     n = M.rows
     if n == 0:
         return Poly(1, var)
-    coeffs = M.coefficient_lists()[0]
-    s = Poly.gen(var)
-    rows = [[(s if i == j else Poly(0, var)) - Poly(coeffs[i][j], var) for j in range(n)] for i in range(n)]
-    return PolyMatrix(rows, var=var).det()
+    mat = flint.fmpq_mat(n, n, [row[j][0] for row in M._r for j in range(n)])
+    return Poly._wrap(mat.charpoly(), var)
