@@ -279,3 +279,7 @@ def test_random_systems_certified_or_refused_for_a_reason(sys):
     cert = des.certificate()
     assert cert.ok, str(cert)
     assert des.n_z == des.r * des.l_star >= sys.n_x
+    # the search reads Ō's left inverse off one solve with F: it is the ring's (unique) reduced one
+    from uio_ring.ring import left_inverse
+
+    assert des.O_left_inverse == left_inverse(des.O)

@@ -629,11 +629,14 @@ def _ranked_assemblies(sys: DelaySystem, finalists: list[_Candidate], budget: in
                 for _k in range(l_star):
                     rows.append(rows[-1] @ s12.A_bar)
                 O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
-            OL = left_inverse(O)
+            # one solve for both: X·Ō = [I; C̄ Ā^{l*}], each row reduced modulo the Popov basis
+            # of Ō's left kernel (unique), so the first n rows are the reduced left inverse
+            both = solve_left(O, PolyMatrix.vstack(_I(n), CAl))
+            OL, F_reduced = both[0:n, 0 : O.rows], both[n : n + r, 0 : O.rows]
             for f_label in ("F reduced modulo the left kernel of Ō", "F by (16) with the reduced left inverse of Ō"):
                 if len(out) >= budget:
                     break
-                X = solve_left(O, CAl) if f_label.startswith("F reduced") else CAl @ OL
+                X = F_reduced if f_label.startswith("F reduced") else CAl @ OL
                 F = _F_from_row(X, r, l_star)
                 T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
                 TL = left_inverse(T)

@@ -133,27 +133,9 @@ def popov_left_kernel(
     """The Popov basis of the left kernel of the m×n rows ``a`` (rows sorted by
     pivot degree, then pivot position), or None when m < ``min_rows`` or the
     Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.
-    The last basis computed is kept with a copy of its matrix and returned again (as
-    new rows) for an equal matrix: a design asks for the kernel of the same tall matrix
-    in its left inverse and in a solve.
     Precondition: shape m×n (not checked)."""
     if m < min_rows:
         return None
-    if _LAST and _LAST[0] == (m, n) and _LAST[1] == a:
-        return dn.copy(_LAST[2])
-    got = _popov_left_kernel(a, m, n)
-    if got is not None and m * n >= _MEMO_MIN_ENTRIES:
-        _LAST[:] = [(m, n), dn.copy(a), dn.copy(got)]
-    return got
-
-
-#: The last large kernel (see :func:`popov_left_kernel`): [(m, n), rows, basis].
-_LAST: list = []
-#: Only matrices with at least this many entries are remembered.
-_MEMO_MIN_ENTRIES = 1024
-
-
-def _popov_left_kernel(a: dn.Rows, m: int, n: int) -> dn.Rows | None:
     r = rank_raw(a, m, n)
     k = m - r
     if k == 0:
