@@ -14,8 +14,10 @@ for that order.  So:
 1. V_D is the nullspace of the block-Toeplitz (Sylvester) matrix of the map
    ``(x_0, …, x_D) ↦ coefficients of x·M``.  The generators of its reduced echelon
    basis come from the column rank profile modulo a word prime and one exact square
-   solve, certified exactly (:mod:`uio_ring.ring._kernel_lead`); when that prime is
-   unlucky, from ``fmpz_mat.nullspace`` and one ``rref`` (python-flint, in C).
+   solve, certified exactly (:mod:`uio_ring.ring._kernel_lead`), when the kernel has
+   at least m/2 rows; otherwise, or when that prime is unlucky, from
+   ``fmpz_mat.nullspace`` and one ``rref`` (python-flint, in C), whose cost grows
+   with the dimension of the nullspace.
 2. The generators are the basis vectors led by δ^e·e_j with δ^(e−1)·e_j not a
    leading monomial.  There are m − rank M of them iff D ≥ max d_i; the rank is
    exact (:func:`~uio_ring.ring._predicates.rank_raw`), so the count proves
@@ -151,7 +153,11 @@ def popov_left_kernel(
     D = min(-(-bound // k), d_cap)
     while True:
         # Invariant: every d_i ≤ D has its generator in `gens`; the others exceed D.
-        lead = generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D, None), n * (D + dm + 1), m * (D + 1), m)
+        # a nullspace of small dimension: the fraction-free nullspace is cheap (tall
+        # (n+4)×n: 4 kernel rows); a large one (a 216×32 observability matrix: 184
+        # rows) swells it, the modular rank profile and one square solve do not
+        lead = (generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D, None), n * (D + dm + 1), m * (D + 1), m)
+                if 2 * k >= m else None)
         gens = _exact_generators(mi, m, n, dm, D) if lead is None else lead
         if len(gens) == k:
             break
