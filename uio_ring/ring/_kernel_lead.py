@@ -79,7 +79,9 @@ def generators_by_lead_solve(
     gens = [c for c in range(cols) if not is_pivot[c] and (c < m or is_pivot[c - m])]
     if not gens:
         return []
-    if not pivots:  # M = 0 in these degrees: every monomial is a kernel vector
+    if not pivots:  # T_D ≡ 0 mod p: every monomial is a kernel vector iff T_D = 0 over Z
+        if any(full):
+            return None
         return [(c, [flint.fmpq(int(i == c)) for i in range(cols)]) for c in gens]
     # rows of T_D[:, P] making a square system nonsingular modulo p (hence over Q)
     chosen = pivot_columns_mod_p([full[r * cols + c] for c in pivots for r in range(rows)], len(pivots), rows, p)
