@@ -195,3 +195,21 @@ def test_min_noise_needs_h():
     s = paper001.system(h=None)
     with pytest.raises(Exception, match="needs the system's h"):
         design_zheng_bejarano(s, poles="min-noise", rate=10)
+
+
+def test_noise_kernel_is_the_sum_of_its_exponential_terms(design10):
+    """K(t) = Σ_{a,b: (a+b)h ≤ t} X_a e^{F (t − (a+b)h)} G_b (right limits at multiples of h),
+    each term from scipy's expm at that instant, against the stepped kernel."""
+    from scipy.linalg import expm
+
+    model = design10.numeric(h=H)
+    step = H / 4
+    t, K = noise_kernel(model, step, 6 * H)
+    for k in (0, 3, 4, 9, 17, len(t) - 1):
+        want = np.zeros((model.n_x, model.n_y))
+        for a in range(model.X.shape[0]):
+            for b in range(model.G_y.shape[0]):
+                s = (a + b) * 4
+                if s <= k:
+                    want += model.X[a] @ expm(model.F * (k - s) * step) @ model.G_y[b]
+        assert np.allclose(K[k], want, rtol=1e-9, atol=1e-9 * max(1.0, np.abs(want).max()))

@@ -131,15 +131,17 @@ def noise_kernel(model: ObserverModel, step: float, horizon: float) -> tuple[np.
     per = max(1, round(h / step))
     T = int(math.ceil(horizon / step)) + 1
     Phi = expm(model.F * step)
-    E = np.empty((T, model.n_z, model.n_z))
-    E[0] = np.eye(model.n_z)
-    for m in range(1, T):
-        E[m] = Phi @ E[m - 1]
     K = np.zeros((T, model.n_x, model.n_y))
-    EG: dict[int, np.ndarray] = {}  # e^{F t} G_b on the grid, shared by the pairs with the same b
-    for b in range(model.G_y.shape[0]):
-        if np.any(model.G_y[b]):
-            EG[b] = E @ model.G_y[b]
+    # e^{F t} G_b on the grid, shared by the pairs with the same b: the columns of all G_b
+    # side by side are stepped by Phi (n_z × n_z times n_z × (B·n_y) per step, never the
+    # n_z × n_z powers of Phi themselves)
+    used = [b for b in range(model.G_y.shape[0]) if np.any(model.G_y[b])]
+    V = np.empty((T, model.n_z, len(used) * model.n_y))
+    if used:
+        V[0] = np.concatenate([model.G_y[b] for b in used], axis=1)
+        for m in range(1, T):
+            np.matmul(Phi, V[m - 1], out=V[m])
+    EG = {b: V[:, :, i * model.n_y : (i + 1) * model.n_y] for i, b in enumerate(used)}
     for a in range(model.X.shape[0]):
         if not np.any(model.X[a]):
             continue
