@@ -23,6 +23,8 @@ Usage::
     python benchmarks/bench_design.py               # paper + n_x = 4, 8, 12, 16
     python benchmarks/bench_design.py --sizes 4 8 --budget 60
     python benchmarks/bench_design.py --quick       # paper + n_x = 4 (smoke test)
+    python benchmarks/bench_design.py --spec 32 --degree 1 > spec32.yaml  # the draw as a spec
+    PYTHONPATH=. python -m uio_ring.cli design spec32.yaml --quiet      # time the whole CLI
 """
 
 from __future__ import annotations
@@ -89,27 +91,41 @@ def random_system(n: int, rng: random.Random, deg: int = 1) -> Any:
     return DelaySystem(A, B0 @ elementary(m), elementary(p) @ C0, None)
 
 
+def designable_draw(n: int, deg: int, seed: int) -> tuple[Any, int]:
+    """The first draw of :func:`random_system` satisfying both assumptions, and the draws used."""
+    from uio_ring import NotObservableError, check_assumptions
+
+    rng = random.Random(seed)
+    draws = 0
+    while True:
+        draws += 1
+        cand = random_system(n, rng, deg)
+        try:
+            if check_assumptions(cand).holds:
+                return cand, draws
+        except NotObservableError:  # pragma: no cover
+            pass
+
+
+def spec_text(sys_: Any, name: str) -> str:
+    """A spec file (YAML) of the system, for ``uio-ring design``."""
+
+    def mat(M: Any) -> str:
+        return "[" + ", ".join("[" + ", ".join(f"'{M[i, j]}'" for j in range(M.cols)) + "]"
+                               for i in range(M.rows)) + "]"
+
+    return f"name: {name}\nsystem:\n  A: {mat(sys_.A)}\n  B: {mat(sys_.B)}\n  C: {mat(sys_.C)}\n  h: 0.1\n"
+
+
 def _run_case(kind: str, n: int, deg: int, seed: int, queue: Any) -> None:
-    from uio_ring import DelaySystem, NotObservableError, design_zheng_bejarano
+    from uio_ring import DelaySystem, design_zheng_bejarano
 
     try:
         if kind == "paper":
             sys_ = DelaySystem(PAPER["A"], PAPER["B"], PAPER["C"], PAPER["D"])
             draws = 1
         else:
-            rng = random.Random(seed)
-            draws = 0
-            while True:
-                draws += 1
-                cand = random_system(n, rng, deg)
-                try:
-                    from uio_ring import check_assumptions
-
-                    if check_assumptions(cand).holds:
-                        sys_ = cand
-                        break
-                except NotObservableError:  # pragma: no cover
-                    pass
+            sys_, draws = designable_draw(n, deg, seed)
         t0 = time.perf_counter()
         des = design_zheng_bejarano(sys_)
         t1 = time.perf_counter()
@@ -141,7 +157,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--budget", type=float, default=300.0, help="seconds per case")
     ap.add_argument("--quick", action="store_true", help="paper + n_x = 4 only")
+    ap.add_argument("--spec", type=int, metavar="N", help="print the designable draw of n_x = N as a spec file")
+    ap.add_argument("--degree", type=int, default=1, help="δ-degree of the draw with --spec (default 1)")
     args = ap.parse_args(argv)
+    if args.spec is not None:
+        sys_, _ = designable_draw(args.spec, args.degree, args.seed)
+        print(spec_text(sys_, f"bench_n{args.spec}_deg{args.degree}_seed{args.seed}"), end="")
+        return 0
     sizes = [4] if args.quick else args.sizes
     cases = [("paper", 4, 1)] + [("random", n, deg) for n in sizes for deg in (1, 2)]
     header = f"{'case':<14}{'n_x':>4}{'m':>3}{'p':>3}{'deg':>4}{'draws':>6}{'design [s]':>12}{'cert [s]':>10}{'n_z':>5}{'lag':>5}{'r':>4}{'l*':>4}  cert"
