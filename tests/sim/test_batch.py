@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import os
 
 import numpy as np
 import pytest
@@ -229,3 +230,58 @@ def test_compiled_linear_loops_equal_numpy(zb, dt, perturb, monkeypatch):
         a, b = getattr(res, name), getattr(ref, name)
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b)), name
     assert np.array_equal(res.metrics["t_converge"], ref.metrics["t_converge"], equal_nan=True)
+
+
+@needs_numba
+def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, monkeypatch):
+    """UIO_RING_THREADS=2 cuts the K = 37 scenarios into two blocks (19 + 18) run by numba's threads:
+    x, y, x̂ and every metric are bit-identical to one thread (each scenario is computed by the
+    same operations in any block), and equal to the numpy path to 1e-12."""
+    import numba
+
+    import uio_ring.numeric.linear_kernel as lk
+
+    if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
+        pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
+    rng = np.random.default_rng(5)
+    sc = [Scenario(x0=rng.normal(size=4), w=_w(rng.uniform(1, 10), 40.0), noise=0.01 if k % 5 == 1 else None,
+                   seed=k) for k in range(37)]
+    kw = dict(t_final=0.05, dt=2.5e-4, trajectories=True, segment_steps=120)
+    monkeypatch.setenv(lk.THREADS_ENV, "1")
+    assert lk.chunks(37) == 1
+    one = simulate_batch(zb, sc, kernel="numba", **kw)
+    monkeypatch.setenv(lk.THREADS_ENV, "2")
+    assert lk.chunks(37) == 2
+    blocks = []
+    loops = lk._compiled()
+    monkeypatch.setattr(lk, "_compiled", lambda: loops[:2] + tuple(
+        (lambda *a, f=f: blocks.append(a[-1]) or f(*a)) for f in loops[2:]))
+    two = simulate_batch(zb, sc, kernel="numba", **kw)
+    assert blocks and set(blocks) == {2}  # the loops ran in two blocks of scenarios
+    for name in ("x", "y", "x_hat"):
+        assert np.array_equal(getattr(one, name), getattr(two, name)), name
+    for name in METRICS:
+        assert np.array_equal(one.metrics[name], two.metrics[name], equal_nan=True), name
+    ref = simulate_batch(zb, sc, kernel="python", **kw)
+    assert np.max(np.abs(two.x_hat - ref.x_hat)) <= 1e-12 * np.max(np.abs(ref.x_hat))
+
+
+@needs_numba
+def test_thread_count_respects_the_limits(monkeypatch):
+    """Never more threads than numba may use nor than the cores; a bad value is an error."""
+    import numba
+
+    import uio_ring.numeric.linear_kernel as lk
+
+    monkeypatch.setenv(lk.THREADS_ENV, "64")
+    assert lk.threads() == min(64, numba.get_num_threads(), os.cpu_count() or 1)
+    assert lk.chunks(15) == 1  # fewer than MIN_CHUNK scenarios per block: one block
+    numba.set_num_threads(1)
+    try:
+        assert lk.threads() == 1
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    for bad in ("0", "two", "-1"):
+        monkeypatch.setenv(lk.THREADS_ENV, bad)
+        with pytest.raises(SimulationError, match="UIO_RING_THREADS"):
+            lk.threads()
