@@ -443,6 +443,7 @@ class _BatchObserver:
         self.pad = max(st.lag * st.N, 0 if st.Wm is None else (st.Wm.shape[0] - 1) * st.N)
         self.scan = LinearScan(st.Phi, chunk=16) if st.inj is None else None
         self.PhiT = st.Phi.T.copy()
+        self.WstT = None if st.W is None else np.stack([Wm.T for Wm in st.W])  # the cubic stencil, row form
         self.binj = None if st.inj is None else _BatchInjection(st.inj)
         self.Ytail: np.ndarray | None = None
         self.Utail = self.Ztail = self.xi = np.zeros(0)
@@ -496,13 +497,20 @@ class _BatchObserver:
             G += _bsum(st.Gu, Urows, jlo - 3, j1, N, off, kern)
             D += _bsum(st.Du, Urows, jlo, j1, N, off, kern)
         steps = np.arange(jlo - 1 if not first else 0, j1)  # the steps j → j + 1 of this segment
-        Fq = self._forcing(G, steps, jlo)
         xi_prev = self._xi0(Yrows, Urows, off) if first else self.xi
-        if self.binj is not None:
-            Xi = self._loop(xi_prev, Fq, G, Yrows, Urows, off, steps, jlo)
+        one_pass = self.binj is None and kern == "numba" and st.cubic and steps.size > 0 and (K >= 8 or steps.size <= 32)
+        if one_pass and steps[0] >= st.guard_blocks * N:  # past the start's stencils: forcing and steps fused
+            from uio_ring.numeric.linear_kernel import stencil_scan
+
+            g0 = int(steps[0]) - (jlo - 3)
+            Xi = stencil_scan(G, np.array([g0 - 2, g0 - 1, g0, g0 + 1]), np.ascontiguousarray(self.WstT), self.PhiT,
+                              xi_prev, np.empty((steps.size, K, st.n_z)))
+        elif self.binj is not None:
+            Xi = self._loop(xi_prev, self._forcing(G, steps, jlo), G, Yrows, Urows, off, steps, jlo)
         elif K >= 8 or steps.size <= 32:  # one small product per step carries K scenarios
-            Xi = scan_rows(self.PhiT, xi_prev, Fq, kern)  # Fq is this segment's own array
+            Xi = scan_rows(self.PhiT, xi_prev, self._forcing(G, steps, jlo), kern)  # the forcing: this segment's own array
         else:
+            Fq = self._forcing(G, steps, jlo)
             assert self.scan is not None  # linear models have one
             Xi = _scan_k(self.scan, xi_prev, np.ascontiguousarray(Fq.transpose(1, 0, 2))).transpose(1, 0, 2)
         if first:
