@@ -33,7 +33,10 @@ The aircraft and paper 001 cases are timed with both backends (``kernel=``): ``"
 (numpy, vectorised over K) and ``"numba"`` (when numba is installed: ``pip install -e '.[fast]'``):
 the compiled step loop of the aircraft's observer; for paper 001 the compiled linear loops
 (plant steps and quadrature, delayed taps, the observer's recursion). The batch is timed in
-CPU time and in wall-clock time (``wall st/s``), each the best of 3.
+CPU time and in wall-clock time (``wall st/s``), each the best of 3; paper 001 with numba also
+with the compiled linear loops on 2 threads (``UIO_RING_THREADS=2``, ``numba×2`` in the name)
+when the machine has 2 cores (the cores and the load average are printed first: a second
+thread only gains on an idle core).
 
 Usage::
 
@@ -47,6 +50,7 @@ Timings are never asserted in tests.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -164,7 +168,8 @@ def _single_options(opts):
     return {**opts, "feedback": lambda t, x, w: law(t, x[None], None if w is None else w[None])[0]}
 
 
-def bench(name, case, K, t_final, dt, n_single, kernel=None):
+def bench(name, case, K, t_final, dt, n_single, kernel=None, threads=1):
+    os.environ["UIO_RING_THREADS"] = str(threads)  # the compiled linear loops (uio_ring.numeric.linear_kernel)
     des, scen, opts = case(K, np.random.default_rng(0))
     if kernel is not None:
         opts = {**opts, "kernel": kernel}
@@ -198,11 +203,16 @@ def main() -> None:
           "scenario; wall st/s: K · steps / wall-clock time (one thread: wall ≥ CPU on a busy machine)")
     print(f"{'problem':<32} {'K':>5} {'steps':>7} {'batch [s]':>9} {'batch st/s':>12} {'single st/s':>12} "
           f"{'speed-up':>8} {'max dev':>10} {'conv':>5} {'wall st/s':>12}")
+    cores = os.cpu_count() or 1
+    print(f"cores: {cores}, load average: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     for kern in kernels():  # numba: the compiled linear loops (uio_ring.numeric.linear_kernel)
-        bench(f"paper 001 (ZB, dt=1e-4, {kern})", paper001_case, K, 0.1 if args.quick else 1.0, 1e-4,
-              2 if args.quick else 4, kernel=kern)
-        bench(f"paper 001 (ZB, dt=1e-3, {kern})", paper001_case, K, 0.5 if args.quick else 5.0, 1e-3,
-              2 if args.quick else 4, kernel=kern)
+        for th in (1, 2) if kern == "numba" and cores >= 2 else (1,):
+            tag = kern if th == 1 else f"{kern}×{th}"
+            bench(f"paper 001 (ZB, dt=1e-4, {tag})", paper001_case, K, 0.1 if args.quick else 1.0, 1e-4,
+                  2 if args.quick else 4, kernel=kern, threads=th)
+            bench(f"paper 001 (ZB, dt=1e-3, {tag})", paper001_case, K, 0.5 if args.quick else 5.0, 1e-3,
+                  2 if args.quick else 4, kernel=kern, threads=th)
+    os.environ["UIO_RING_THREADS"] = "1"
     for kern in kernels():
         bench(f"aircraft (NF, implicit, {kern})", aircraft_case, K, 0.02 if args.quick else 0.5, 1e-4, 2, kernel=kern)
     bench("aircraft closed loop (NF)", closed_loop_case, K, 0.02 if args.quick else 0.2, 2e-4, 2)
