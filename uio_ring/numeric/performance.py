@@ -121,40 +121,84 @@ def _dirac_weight(model: ObserverModel) -> np.ndarray:
     return sum((np.abs(M) for M in by_c.values()), np.zeros((model.n_x, model.n_y)))
 
 
+#: Grid points stepped per block of :func:`_kernel_chain` (the block stays in cache).
+_BLOCK = 256
+
+
+def _kernel_chain(model: ObserverModel, step: float, T: int, offset: int = 0, stride: int = 1) -> np.ndarray:
+    """``K`` at the grid points ``m = offset + stride·j < T`` (``t = m·step``), shape ``(J, n_x, n_y)``.
+
+    With ``s = (a+b)·per`` (``per = h/step``, a multiple of ``stride``), ``K[m] = Σ X_a V[j − s/stride]
+    G_b`` where ``V[i] = Φ^{stride·i} e^{F·offset·step} [G_b …]`` (the used ``G_b`` side by side),
+    stepped by ``Φ^stride`` (``Φ = e^{F·step}``): an ``n_z × n_z`` times ``n_z × B·n_y`` product per
+    point, in blocks of :data:`_BLOCK` points that are used and dropped (never all of ``V``, never
+    an ``n_z × n_z`` power per point).
+    """
+    h = model.h if model.h is not None else step
+    per = max(1, round(h / step))
+    J = max(0, -(-(T - offset) // stride))
+    ny = model.n_y
+    K = np.zeros((J, model.n_x, ny))
+    used = [b for b in range(model.G_y.shape[0]) if np.any(model.G_y[b])]
+    taps = [a for a in range(model.X.shape[0]) if np.any(model.X[a])]
+    if not used or not taps or J == 0:
+        return K
+    Phi = expm(model.F * (step * stride))
+    Xs = np.concatenate([model.X[a] for a in taps], axis=0)  # (A·n_x, n_z)
+    nx = model.n_x
+    V = np.empty((_BLOCK, model.n_z, len(used) * ny))
+    first = np.concatenate([model.G_y[b] for b in used], axis=1)
+    V[0] = expm(model.F * (step * offset)) @ first if offset else first
+    shifts = [(ia, ib, (a + b) * per // stride) for ia, a in enumerate(taps) for ib, b in enumerate(used)]
+    for lo in range(0, J, _BLOCK):
+        n = min(_BLOCK, J - lo)
+        if lo:
+            np.matmul(Phi, V[-1], out=V[0])  # V[-1]: the last point of the previous (full) block
+        for i in range(1, n):
+            np.matmul(Phi, V[i - 1], out=V[i])
+        Y = np.matmul(Xs, V[:n])  # (n, A·n_x, B·n_y): every X_a V G_b at once
+        for ia, ib, sh in shifts:
+            if lo + sh < J:
+                top = min(n, J - lo - sh)
+                K[lo + sh : lo + sh + top] += Y[:top, ia * nx : (ia + 1) * nx, ib * ny : (ib + 1) * ny]
+    return K
+
+
+def _kernel(model: ObserverModel, step: float, T: int, coarse: np.ndarray | None = None) -> np.ndarray:
+    """``K`` on ``t = 0, step, …`` (``T`` points, shape ``(T, n_x, n_y)``).  ``coarse``: ``K`` on the
+    grid of twice the step (the previous grid of the refinement), which holds the even points;
+    only the odd ones are stepped (:func:`_kernel_chain` with stride 2): half the products.
+    """
+    h = model.h if model.h is not None else step
+    per = max(1, round(h / step))
+    even = -(-T // 2)
+    if coarse is None or coarse.shape[0] < even or per % 2:
+        return _kernel_chain(model, step, T)
+    K = np.empty((T, model.n_x, model.n_y))
+    K[0::2] = coarse[:even]
+    K[1::2] = _kernel_chain(model, step, T, offset=1, stride=2)
+    return K
+
+
 def noise_kernel(model: ObserverModel, step: float, horizon: float) -> tuple[np.ndarray, np.ndarray]:
     """The smooth part of ``K`` on ``t = 0, step, …`` (``step`` divides h): ``(t, K)`` with
     ``K`` of shape ``(T, n_x, n_y)``; at a multiple of h the value is the right limit.
 
+    ``e^{F t} G_b`` is stepped once per ``b`` (:func:`_kernel_chain`) and shared by the pairs with
+    that ``b``: ``n_z² · T · B·n_y`` flops.
+
     Precondition: linear model with ``h`` set when it has delays (not checked).
     """
-    h = model.h if model.h is not None else step
-    per = max(1, round(h / step))
     T = int(math.ceil(horizon / step)) + 1
-    Phi = expm(model.F * step)
-    K = np.zeros((T, model.n_x, model.n_y))
-    # e^{F t} G_b on the grid, shared by the pairs with the same b: the columns of all G_b
-    # side by side are stepped by Phi (n_z × n_z times n_z × (B·n_y) per step, never the
-    # n_z × n_z powers of Phi themselves)
-    used = [b for b in range(model.G_y.shape[0]) if np.any(model.G_y[b])]
-    V = np.empty((T, model.n_z, len(used) * model.n_y))
-    if used:
-        V[0] = np.concatenate([model.G_y[b] for b in used], axis=1)
-        for m in range(1, T):
-            np.matmul(Phi, V[m - 1], out=V[m])
-    EG = {b: V[:, :, i * model.n_y : (i + 1) * model.n_y] for i, b in enumerate(used)}
-    for a in range(model.X.shape[0]):
-        if not np.any(model.X[a]):
-            continue
-        for b, Eb in EG.items():
-            s = (a + b) * per
-            if s < T:
-                K[s:] += model.X[a] @ Eb[: T - s]
-    return np.arange(T) * step, K
+    return np.arange(T) * step, _kernel_chain(model, step, T)
 
 
-def _integrals(model: ObserverModel, step: float, horizon: float) -> tuple[np.ndarray, np.ndarray]:
-    """``∫|K|`` and ``∫K²`` by the trapezoidal rule on each block between multiples of h."""
-    t, K = noise_kernel(model, step, horizon)
+def _integrals(model: ObserverModel, step: float, horizon: float,
+               coarse: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``∫|K|`` and ``∫K²`` by the trapezoidal rule on each block between multiples of h, and
+    ``K`` itself (the even points of the next, halved, step)."""
+    T = int(math.ceil(horizon / step)) + 1
+    K = _kernel(model, step, T, coarse)
     h = model.h if model.h is not None else step
     per = max(1, round(h / step))
     pairs = _pairs(model)
@@ -162,17 +206,18 @@ def _integrals(model: ObserverModel, step: float, horizon: float) -> tuple[np.nd
     l2 = np.zeros((model.n_x, model.n_y))
     jumps = sorted({c * per for c, _, _ in pairs if c > 0})
     # at a jump the left limit lacks the terms that switch on there
-    bounds = [0] + [j for j in jumps if j < len(t) - 1] + [len(t) - 1]
+    bounds = [0] + [j for j in jumps if j < T - 1] + [T - 1]
     for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
-        seg = K[lo : hi + 1].copy()
+        seg = K[lo : hi + 1]
+        last = seg[-1].copy()
         for c, Xa, Gb in pairs:
             if c * per == hi and hi > lo:
-                seg[-1] -= Xa @ Gb  # left limit at the block end
+                last -= Xa @ Gb  # left limit at the block end
         w = np.full(hi - lo + 1, step)
         w[0] = w[-1] = step / 2
-        l1 += np.einsum("m,mij->ij", w, np.abs(seg))
-        l2 += np.einsum("m,mij->ij", w, seg**2)
-    return l1, l2
+        l1 += np.einsum("m,mij->ij", w[:-1], np.abs(seg[:-1])) + w[-1] * np.abs(last)
+        l2 += np.einsum("m,mij->ij", w[:-1], seg[:-1] ** 2) + w[-1] * last**2
+    return l1, l2, K
 
 
 #: Most grid points one integral of :func:`performance` may use (checked before allocating).
@@ -217,13 +262,13 @@ def _performance(model: ObserverModel, *, tolerance: float, rtol: float, scope: 
     dirac = _dirac_weight(model)
     # trapezoid on grids of step Δ and Δ/2, Richardson-extrapolated (error O(Δ⁴) for a smooth
     # |K|; kinks where K changes sign leave O(Δ²)); halve until the figure settles
-    l1c, l2c = _integrals(model, step, horizon)
+    l1c, l2c, K = _integrals(model, step, horizon)
     P = l1c + dirac
     for _ in range(6):
         if 2 * horizon / step > MAX_GRID_POINTS:
             break  # the finest grid the budget allows
         step /= 2
-        l1f, l2f = _integrals(model, step, horizon)
+        l1f, l2f, K = _integrals(model, step, horizon, K)
         l1, l2 = l1f + (l1f - l1c) / 3, l2f + (l2f - l2c) / 3
         new_P = l1 + dirac
         settled = np.all(np.abs(new_P - P) <= rtol * np.maximum(np.abs(new_P), 1e-300))
@@ -234,13 +279,7 @@ def _performance(model: ObserverModel, *, tolerance: float, rtol: float, scope: 
     lag_s = lag * (h or 0.0)
     # convergence: ‖e^{F t}‖∞ ≤ tolerance from then on
     coarse = 4 * step
-    Phi = expm(model.F * coarse)
-    E = np.eye(model.n_z)
-    last_bad = 0.0
-    for m in range(1, int(math.ceil(horizon / coarse)) + 1):
-        E = Phi @ E
-        if np.abs(E).sum(axis=1).max() > tolerance:
-            last_bad = m * coarse
+    last_bad = _last_above(expm(model.F * coarse), int(math.ceil(horizon / coarse)), tolerance) * coarse
     has_dirac = bool(np.any(dirac))
     h2 = None if has_dirac else np.sqrt(l2.sum(axis=1))
     reason = ("the read-out passes the noise directly to x̂ (X(δ)·D_y(δ) ≠ 0: the terms H Λ(δ) y of the "
@@ -249,6 +288,48 @@ def _performance(model: ObserverModel, *, tolerance: float, rtol: float, scope: 
         decay_rate=rate, convergence_time=float(last_bad + lag_s), tolerance=tolerance, peak_to_peak=P,
         h2=h2, h2_reason=reason, lag=lag, lag_seconds=lag_s, order=model.n_z, scope=scope,
     )
+
+
+def _last_above(Phi: np.ndarray, M: int, tolerance: float) -> int:
+    """The last ``m ≤ M`` with ``‖Φ^m‖∞ > tolerance`` (0 if none).
+
+    Two shortcuts, the answer unchanged (up to rounding) against stepping ``m = 1 … M``:
+
+    * ``‖Φ^M‖∞ > tolerance``: the answer is ``M`` (``Φ^M`` by squaring: O(log M) products);
+    * when ``‖Φ^m‖∞ ≤ tolerance ≤ 1`` for every ``m`` in ``[m₀, 2m₀)``, then for every
+      ``n ≥ m₀``, ``n = j + k m₀`` with ``j ∈ [m₀, 2m₀)``, so ``‖Φ^n‖ ≤ ‖Φ^j‖ ‖Φ^{m₀}‖^k ≤
+      tolerance`` (the norm is submultiplicative): the stepping stops there.
+
+    >>> _last_above(np.array([[0.5]]), 10, 0.1)       # 0.5^3 = 0.125 > 0.1 ≥ 0.5^4
+    3
+    >>> _last_above(np.array([[0.99]]), 5, 0.1)       # still above at M
+    5
+    """
+    def norm(E: np.ndarray) -> float:
+        return float(np.abs(E).sum(axis=1).max())
+
+    if M <= 0:
+        return 0
+    power, base, e = np.eye(Phi.shape[0]), Phi, M
+    while e:
+        if e & 1:
+            power = power @ base
+        e >>= 1
+        if e:
+            base = base @ base
+    if norm(power) > tolerance:
+        return M
+    E = np.eye(Phi.shape[0])
+    last_bad, run_start = 0, 0  # run_start: first m of the current run of m with ‖Φ^m‖ ≤ tolerance
+    for m in range(1, M + 1):
+        E = Phi @ E
+        if norm(E) > tolerance:
+            last_bad, run_start = m, 0
+        elif run_start == 0:
+            run_start = m
+        elif tolerance <= 1 and m >= 2 * run_start - 1:
+            break
+    return last_bad
 
 
 def linear_part(model: ObserverModel) -> ObserverModel:
@@ -293,7 +374,7 @@ def gain_estimate(model: ObserverModel, *, points_per_pole: float = 10.0,
     if horizon / step > MAX_GRID_POINTS:
         return np.full(model.n_x, np.inf), np.full(model.n_x, np.inf)
     with np.errstate(all="ignore"):  # a badly conditioned candidate overflows: its gain is infinite
-        l1, l2 = _integrals(model, step, horizon)
+        l1, l2, _ = _integrals(model, step, horizon)
         dirac = _dirac_weight(model)
         p2p = (l1 + dirac).sum(axis=1)
         h2 = None if np.any(dirac) else np.sqrt(l2.sum(axis=1))
