@@ -17,21 +17,59 @@ True
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any, ClassVar
 
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
 
-__all__ = ["ObserverDesign", "matrix_to_data"]
+__all__ = ["ObserverDesign", "matrix_to_data", "matrix_text_memo"]
+
+#: Inside :func:`matrix_text_memo`: ``id(M) -> (M, rows of strings)`` for the matrices already written.
+_TEXTS: ContextVar[dict[int, tuple[PolyMatrix, list[list[str]]]] | None] = ContextVar("_TEXTS", default=None)
+
+
+@contextmanager
+def matrix_text_memo() -> Iterator[None]:
+    """Within the block, :func:`matrix_to_data` writes each matrix object once: a design file
+    holds its matrices in ``fields`` and again in the ``summary`` (the same objects), and the
+    decimal text of big coefficients is the costly part (a 216 × 32 matrix of 1391-bit
+    coefficients: ~2 s).  The memo lives for the block only (one file), never globally; it
+    keeps the matrices alive, so an ``id`` is not reused while it stands.
+
+    >>> M = PolyMatrix("[[d, 1/2]]")
+    >>> with matrix_text_memo():
+    ...     a, b = matrix_to_data(M), matrix_to_data(M)
+    >>> a == b == [['d', '1/2']], a is b
+    (True, False)
+    """
+    token = _TEXTS.set({})
+    try:
+        yield
+    finally:
+        _TEXTS.reset(token)
 
 
 def matrix_to_data(M: PolyMatrix) -> list[list[str]]:
     """A matrix as nested lists of polynomial strings (for JSON/YAML).
 
+    Each call returns new lists (a YAML emitter would write lists shared between two
+    places as anchors and aliases); inside :func:`matrix_text_memo` the strings of a
+    matrix already written are reused.
+
     >>> matrix_to_data(PolyMatrix("[[d, 1/2]]"))
     [['d', '1/2']]
     """
-    return [[str(x) for x in row] for row in M.tolist()]
+    memo = _TEXTS.get()
+    if memo is None:
+        return [[str(x) for x in row] for row in M.tolist()]
+    hit = memo.get(id(M))
+    if hit is None or hit[0] is not M:
+        hit = (M, [[str(x) for x in row] for row in M.tolist()])
+        memo[id(M)] = hit
+    return [list(row) for row in hit[1]]
 
 
 class ObserverDesign(ABC):

@@ -64,13 +64,14 @@ def _design_classes() -> dict[str, type]:
 
 def _encode(value: Any) -> Any:
     """Tagged plain data: JSON scalars stay; everything else is ``{"$tag": …}``."""
+    from uio_ring.design.base import matrix_to_data
     from uio_ring.ring.matrix import PolyMatrix
     from uio_ring.systems.delay_system import DelaySystem
 
     if value is None or isinstance(value, (bool, int, str)):
         return value
     if isinstance(value, PolyMatrix):
-        return {"$matrix": [[str(p) for p in row] for row in value.tolist()], "shape": list(value.shape)}
+        return {"$matrix": matrix_to_data(value), "shape": list(value.shape)}
     if isinstance(value, DelaySystem):
         return {"$system": value.to_dict(), "shapes": {k: list(M.shape) for k, M in value.matrices().items()}}
     if isinstance(value, Fraction):
@@ -93,8 +94,12 @@ def design_to_data(design: Any) -> dict[str, Any]:
     float observer model (:meth:`~uio_ring.numeric.model.ObserverModel.to_dict`: coefficient
     arrays per power of δ) for other tools.  ``numeric_derived`` is derived from the exact
     fields and ignored on loading: the exact fields are the design."""
-    fields = {f.name: _encode(getattr(design, f.name)) for f in dataclasses.fields(design) if f.compare}
-    out = {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": design.to_dict()}
+    from uio_ring.design.base import matrix_text_memo
+
+    with matrix_text_memo():  # the summary repeats the fields' matrices: their text is made once
+        fields = {f.name: _encode(getattr(design, f.name)) for f in dataclasses.fields(design) if f.compare}
+        summary = design.to_dict()
+    out = {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": summary}
     try:
         out["numeric_derived"] = design.numeric().to_dict()
     except UioRingError as exc:  # e.g. exact coefficients beyond float64: the exact fields are still the design
