@@ -91,3 +91,26 @@ def test_spectrum_check_compares_polynomials(design):
 def test_charpoly():
     assert str(charpoly(PolyMatrix("[[0, 1], [-2, -3]]"))) == "s**2 + 3*s + 2"
     assert str(charpoly(PolyMatrix.zeros(0, 0))) == "1"
+
+
+@pytest.mark.parametrize("block", ["first", "middle", "last"])
+def test_a_changed_block_of_O_fails_12(design, block):
+    """Ō is checked block by block (first block C̄, each next one the one before times Ā):
+    a change in any block is caught."""
+    r, rows = design.C_bar.rows, design.O.rows
+    i = {"first": 0, "middle": r * (design.l_star // 2), "last": rows - 1}[block]
+    O = design.O + _unit(rows, design.O.cols, i, 1)
+    assert "(12): Ō_{l*} left unimodular" in _failed(design, O=O)
+
+
+def test_O_with_a_missing_block_fails_12(design):
+    r = design.C_bar.rows
+    O = design.O[: design.O.rows - r, :]
+    cert = delay_uio_certificate(dataclasses.replace(design, O=O))
+    assert not cert["(12): Ō_{l*} left unimodular"].ok
+
+
+def test_a_left_inverse_that_is_not_one_fails_12(design):
+    """Ō_L⁻¹ Ō = I is the proof that Ō is left unimodular: a changed Ō_L⁻¹ is caught."""
+    X = design.O_left_inverse + _unit(design.O_left_inverse.rows, design.O_left_inverse.cols, 0, 0)
+    assert "(12): Ō_{l*} left unimodular" in _failed(design, O_left_inverse=X)

@@ -27,7 +27,7 @@ from typing import Any
 
 from uio_ring.ring.certificate import Certificate, Check
 from uio_ring.ring.charpoly import charpoly
-from uio_ring.ring.inverse import is_left_unimodular, is_unimodular
+from uio_ring.ring.inverse import is_unimodular
 from uio_ring.ring.kernel import left_kernel
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.verify.checks import residual_check
@@ -109,12 +109,15 @@ def delay_uio_certificate(design: Any) -> Certificate:
 
     # Step 3 ---------------------------------------------------------------------
     def obs() -> Any:
-        blocks = [d.C_bar]
-        for _ in range(d.l_star - 1):
-            blocks.append(blocks[-1] @ d.A_bar)
-        if not is_left_unimodular(d.O):
-            return "Ō_{l*} is not left unimodular"
-        return {"Ō − [C̄; C̄Ā; …]": d.O - PolyMatrix.vstack(*blocks),
+        # Ō = [C̄; C̄Ā; …; C̄Ā^{l*−1}] ⇔ its first block is C̄ and each next block is the one
+        # before times Ā (induction): one product Ō_top Ā, Ō_top = Ō without its last block.
+        # A polynomial Ō_L⁻¹ with Ō_L⁻¹ Ō = I is what "Ō left unimodular" means
+        # (uio_ring.ring.inverse): the zero residual proves it, no elimination of Ō needed.
+        r_, rows = d.C_bar.rows, d.O.rows
+        if rows != r_ * d.l_star:
+            return f"Ō_{{l*}} has {rows} rows, not r·l* = {r_}·{d.l_star}"
+        return {"Ō − [C̄; C̄Ā; …]": PolyMatrix.vstack(d.O[:r_, :] - d.C_bar,
+                                                     d.O[r_:, :] - d.O[: rows - r_, :] @ d.A_bar),
                 "Ō_L⁻¹ Ō − I": d.O_left_inverse @ d.O - _I(n)}
 
     add("(12): Ō_{l*} left unimodular", "Ō_{l*} = [C̄; …; C̄Ā^{l*−1}] left unimodular, Ō_L⁻¹ Ō = I", obs)
