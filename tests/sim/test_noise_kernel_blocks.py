@@ -56,6 +56,17 @@ def test_blocks_and_the_halved_grid_give_the_kernel(seed, n_z, n_x, n_y, taps_x,
     assert np.array_equal(halved[0::2], coarse[: (T + 1) // 2])  # the even points are the coarse grid's
 
 
+def test_halved_grid_of_a_delay_free_model():
+    model = _model(7, 4, 2, 2, 1, 1)
+    model = ObserverModel(F=model.F, G_y=model.G_y, X=model.X)  # no h: no delays
+    step, T = 0.01, 23
+    coarse = perf._kernel(model, 2 * step, (T + 1) // 2)
+    halved = perf._kernel(model, step, T, coarse)
+    want = np.stack([model.X[0] @ expm(model.F * (k * step)) @ model.G_y[0] for k in range(T)])
+    assert np.allclose(halved, want, rtol=1e-9, atol=1e-12)
+    assert np.array_equal(halved[0::2], coarse)
+
+
 def _last_above_stepped(Phi: np.ndarray, M: int, tolerance: float) -> int:
     E, last = np.eye(Phi.shape[0]), 0
     for m in range(1, M + 1):

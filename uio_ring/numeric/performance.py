@@ -168,11 +168,12 @@ def _kernel(model: ObserverModel, step: float, T: int, coarse: np.ndarray | None
     """``K`` on ``t = 0, step, …`` (``T`` points, shape ``(T, n_x, n_y)``).  ``coarse``: ``K`` on the
     grid of twice the step (the previous grid of the refinement), which holds the even points;
     only the odd ones are stepped (:func:`_kernel_chain` with stride 2): half the products.
+    (Delay-free models, ``h`` None: every shift is 0, any step may be halved.)
     """
     h = model.h if model.h is not None else step
     per = max(1, round(h / step))
     even = -(-T // 2)
-    if coarse is None or coarse.shape[0] < even or per % 2:
+    if coarse is None or coarse.shape[0] < even or (model.h is not None and per % 2):
         return _kernel_chain(model, step, T)
     K = np.empty((T, model.n_x, model.n_y))
     K[0::2] = coarse[:even]
