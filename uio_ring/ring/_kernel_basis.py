@@ -49,7 +49,7 @@ import flint
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
-from uio_ring.ring._kernel_lead import generators_by_lead_solve
+from uio_ring.ring._kernel_lead import generators_by_lead_solve, pivot_columns_mod_p
 from uio_ring.ring._predicates import rank_raw
 
 __all__ = ["popov_left_kernel", "solve_reduced", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
@@ -171,8 +171,6 @@ def popov_left_kernel(
     return rows
 
 
-_PRIME = 2**61 - 1
-
 
 def solve_reduced(
     a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows, *, tries: int | None = None
@@ -232,16 +230,9 @@ def _solve_reduced_at(
     ])
     bnum, bden = b.numer_denom()
     # independent rows of T restricted to the unknowns, modulo p
-    tp = flint.nmod_mat(len(unknowns), rows, [full[r * cols + c] % _PRIME for c in unknowns for r in range(rows)], _PRIME)
-    red, rank = tp.rref()
-    if rank < len(unknowns):
+    chosen = pivot_columns_mod_p([full[r * cols + c] for c in unknowns for r in range(rows)], len(unknowns), rows)
+    if len(chosen) < len(unknowns):
         return None  # a bad prime (T restricted to the unknowns has full column rank over Q)
-    chosen = []
-    r = 0
-    for c in range(rows):
-        if r < rank and red[r, c] != 0:
-            chosen.append(c)
-            r += 1
     sq = flint.fmpz_mat(len(unknowns), len(unknowns), [full[r * cols + c] for r in chosen for c in unknowns])
     sb = flint.fmpz_mat(len(unknowns), k, [bnum[r, v] for r in chosen for v in range(k)])
     sol = flint.fmpq_mat(sq).solve(flint.fmpq_mat(sb))  # exact (p-adic lifting in C)
