@@ -11,8 +11,11 @@ basis W of :func:`~uio_ring.ring.row_basis.extend_row_basis` spans the row modul
    its row degrees: it is unimodular only when constant.)
 2. W square (rank n) and W without its largest row left prime: ``d_{n−1} = 1`` (the
    (n−1)-minors of W include those of that submatrix), so the factors are
-   ``1, …, 1, det W / lc`` (Smith); det W exactly by Bareiss over Z[δ]
-   (:func:`~uio_ring.ring._fraction_free.det_integer`).
+   ``1, …, 1, det W / lc`` (Smith); the monic det W from a certified primitive
+   kernel vector of that submatrix (:mod:`uio_ring.ring._monic_det`; random 8-state
+   spec of δ-degree 16: 0.17 s against 0.92 s for the exact Bareiss det W, whose
+   coefficients carry a 7.6 kbit content), Bareiss over Z[δ]
+   (:func:`~uio_ring.ring._fraction_free.det_integer`) if no kernel vector is certified.
 3. Otherwise: :func:`~uio_ring.ring.smith.invariant_factors` of ``N_k``.
 
 Steps 1–2 replace exact compressed minors of ``N_k`` (whose integer rows carry
@@ -28,6 +31,7 @@ from __future__ import annotations
 from uio_ring.ring import _backend as bk
 from uio_ring.ring._fraction_free import _size, det_integer, integer_rows, smallest_first
 from uio_ring.ring._left_prime import left_prime_mod_p
+from uio_ring.ring._monic_det import monic_det_by_kernel
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.ring.smith import invariant_factors
 
@@ -50,6 +54,8 @@ def module_invariant_factors(N: PolyMatrix, W: PolyMatrix) -> tuple[Poly, ...]:
         largest = max(range(n), key=lambda i: sum(_size(p) for p in z[i]))
         rest = [W._r[i] for i in range(n) if i != largest]
         if left_prime_mod_p(rest, n - 1, n):
-            det = det_integer(smallest_first(z, n), n)
-            return (one,) * (n - 1) + (Poly._wrap(bk.monic(bk.from_integer(det)), N.var),)
+            last = monic_det_by_kernel(z, n, largest)
+            if last is None:  # pragma: no cover - no certified kernel vector within the prime budget
+                last = bk.monic(bk.from_integer(det_integer(smallest_first(z, n), n)))
+            return (one,) * (n - 1) + (Poly._wrap(last, N.var),)
     return tuple(invariant_factors(N))
