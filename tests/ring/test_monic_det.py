@@ -7,9 +7,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from uio_ring.ring._fraction_free import det_integer, integer_rows
+from uio_ring.ring._left_prime import det_nmod
 from uio_ring.ring._monic_det import monic_det_by_kernel
 
-from .strategies import square_matrices, unimodular_matrices
+from .strategies import dense_matrices, square_matrices, unimodular_matrices
 
 
 def _cofactor_gcd(z: list[list[flint.fmpz_poly]], n: int, i: int) -> flint.fmpz_poly:
@@ -65,3 +66,23 @@ def test_huge_integer_content_and_large_kernel_vectors(n, bits, data):
     got = monic_det_by_kernel(z, n, i)
     assert got == _expected(z, n, i)
     assert got == _monic(det_integer(z, n))  # W without row i is left prime (see above)
+
+
+@settings(max_examples=60, deadline=None)
+@given(dense_matrices(min_rows=1, max_rows=4, min_cols=2, max_cols=5, max_degree=3), st.integers(0, 4))
+def test_cofactors_mod_p_are_the_determinants_with_a_unit_row(M, zero_col):
+    # det [R; e_c] one by one (det_nmod) against the single elimination; a zeroed column
+    # forces the case where no row of R can pivot
+    from uio_ring.ring._monic_det import _cofactors_mod_p
+
+    n = M.rows + 1
+    if M.cols != n:
+        return
+    z, _ = integer_rows(M._r)
+    if zero_col < n:
+        z = [[flint.fmpz_poly(0) if j == zero_col else e for j, e in enumerate(row)] for row in z]
+    p = 101
+    zero, one = flint.nmod_poly([], p), flint.nmod_poly([1], p)
+    rp = [[flint.nmod_poly(e, p) for e in row] for row in z]
+    want = [det_nmod(rp + [[one if j == c else zero for j in range(n)]], n, p) for c in range(n)]
+    assert _cofactors_mod_p(z, n, p) == want

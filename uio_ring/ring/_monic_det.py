@@ -12,8 +12,8 @@ and gcd(v) = q·gcd(m) forces q ∈ Q*, so::
     monic det W = monic(w_i · v).
 
 v is found multimodularly and then *checked*: modulo word-size primes p the
-cofactor vector of R is n determinants over GF(p)[δ]
-(:func:`~uio_ring.ring._left_prime.det_nmod`); scaled so that one fixed coefficient is 1 it
+cofactor vector of R is n determinants over GF(p)[δ], all from one Bareiss
+elimination (:func:`_cofactors_mod_p`); scaled so that one fixed coefficient is 1 it
 is ``v/v_c[e] mod p`` for every prime that divides neither that coefficient nor the
 integer content of m (other primes are seen as a zero vector or a zero
 coefficient and skipped).  The images are combined by the Chinese remainder theorem and every
@@ -27,8 +27,8 @@ integer content in its minors (random 8-state spec of δ-degree 16: cofactors of
 7.6 kbit = 7.5 kbit content × a 140-bit primitive v of degree 528), so the exact
 Bareiss determinant of W computes megabits that the monic result divides away.
 
-Cost: per prime, n determinants of (n−1)×(n−1) matrices over GF(p)[δ] (Bareiss,
-O(n³) products of degree ≤ Σ row degrees); about ``2·bits(v)/61 + 1`` primes; one
+Cost: per prime, one Bareiss elimination of an (2n−1)×n matrix over GF(p)[δ]
+(O(n³) products of degree ≤ Σ row degrees); about ``2·bits(v)/61 + 1`` primes; one
 exact product R·v.
 
 >>> from uio_ring.ring import _backend as bk
@@ -63,14 +63,39 @@ def _primes(start: int) -> Iterator[int]:
 
 
 def _cofactors_mod_p(r: list[list[flint.fmpz_poly]], n: int, p: int) -> list[flint.nmod_poly]:
-    """The signed cofactor vector of the (n−1)×n rows r over GF(p)[δ]."""
+    """``m_c = det [R; e_c]`` (c = 0 … n−1) over GF(p)[δ] for the (n−1)×n rows r = R: a kernel
+    vector of R (``R_i·m = det [R; R_i] = 0``), the signed cofactors.
+
+    One Bareiss elimination of R with the n unit rows appended as rows that are
+    eliminated but never pivot: each of them undergoes exactly the steps of Bareiss on
+    the n×n matrix [R; e_c], whose last entry is that determinant (Sylvester's identity),
+    so n determinants cost one elimination plus n·O(n²) products.  When no row of R
+    has a nonzero entry in a pivot column the n determinants are taken one by one
+    (:func:`~uio_ring.ring._left_prime.det_nmod`)."""
     rp = [[flint.nmod_poly(e, p) for e in row] for row in r]
-    out = []
-    for c in range(n):
-        sub = [[row[j] for j in range(n) if j != c] for row in rp]
-        d = det_nmod(sub, n - 1, p)
-        out.append(d if c % 2 == 0 else -d)
-    return out
+    zero, one = flint.nmod_poly([], p), flint.nmod_poly([1], p)
+    a = [list(row) for row in rp] + [[one if j == c else zero for j in range(n)] for c in range(n)]
+    sign = 1
+    prev = one
+    for k in range(n - 1):
+        if a[k][k].is_zero():
+            piv = next((i for i in range(k + 1, n - 1) if not a[i][k].is_zero()), None)
+            if piv is None:
+                return [det_nmod(rp + [[one if j == c else zero for j in range(n)]], n, p) for c in range(n)]
+            a[k], a[piv] = a[piv], a[k]
+            sign = -sign
+        akk, row_k = a[k][k], a[k]
+        for i in range(k + 1, len(a)):
+            aik, row_i = a[i][k], a[i]
+            if aik.is_zero() and i >= n - 1:
+                for j in range(k + 1, n):
+                    if not row_i[j].is_zero():
+                        row_i[j] = row_i[j] * akk // prev
+                continue
+            for j in range(k + 1, n):
+                row_i[j] = (row_i[j] * akk - aik * row_k[j]) // prev
+        prev = akk
+    return [a[n - 1 + c][n - 1] if sign > 0 else -a[n - 1 + c][n - 1] for c in range(n)]
 
 
 def _rat(a: int, m: int) -> tuple[int, int] | None:
