@@ -86,3 +86,26 @@ def test_cofactors_mod_p_are_the_determinants_with_a_unit_row(M, zero_col):
     rp = [[flint.nmod_poly(e, p) for e in row] for row in z]
     want = [det_nmod(rp + [[one if j == c else zero for j in range(n)]], n, p) for c in range(n)]
     assert _cofactors_mod_p(z, n, p) == want
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(2, 4), st.sampled_from(["d + 1", "d**2 - 3", "(d - 1)**2", "2*d**3 + d"]), st.data())
+def test_row_module_membership_equals_reduction_to_zero(n, f, data):
+    # W: a weak Popov basis of U·diag(1, …, 1, f)·V; x ∈ L(W) iff reducing x modulo W
+    # leaves nothing (extend_row_basis, the independent path); members y·W are drawn too
+    from uio_ring.analysis._module_factors import module_factors_and_kernel
+    from uio_ring.ring._monic_det import in_row_module
+    from uio_ring.ring.matrix import PolyMatrix
+    from uio_ring.ring.row_basis import extend_row_basis
+
+    N = (data.draw(unimodular_matrices(n)) @ PolyMatrix.diag(*(["1"] * (n - 1) + [f]))
+         @ data.draw(unimodular_matrices(n)))
+    W = extend_row_basis(PolyMatrix.zeros(0, n), N).basis
+    facs, kd = module_factors_and_kernel(N, W)
+    if kd is None:
+        return
+    assert str(facs[-1]) == str(PolyMatrix(f"[[{f}]]")[0, 0].monic())
+    x = data.draw(dense_matrices(rows=1, cols=n, max_degree=4))
+    if data.draw(st.booleans()):
+        x = x @ PolyMatrix.diag(*([f] * n)) if data.draw(st.booleans()) else x @ W
+    assert in_row_module(list(x._r[0]), kd) == (extend_row_basis(W, x).rows.rows == 0)

@@ -31,31 +31,39 @@ from __future__ import annotations
 from uio_ring.ring import _backend as bk
 from uio_ring.ring._fraction_free import _size, det_integer, integer_rows, smallest_first
 from uio_ring.ring._left_prime import left_prime_mod_p
-from uio_ring.ring._monic_det import monic_det_by_kernel
+from uio_ring.ring._monic_det import KernelDet, kernel_det
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.ring.smith import invariant_factors
 
-__all__ = ["module_invariant_factors"]
+__all__ = ["module_factors_and_kernel", "module_invariant_factors"]
 
 
 def module_invariant_factors(N: PolyMatrix, W: PolyMatrix) -> tuple[Poly, ...]:
     """The invariant factors of N, given a weak Popov basis W of its row module (module docstring).
     Precondition: W is in weak Popov form and spans the row module of N (not checked)."""
+    return module_factors_and_kernel(N, W)[0]
+
+
+def module_factors_and_kernel(N: PolyMatrix, W: PolyMatrix) -> tuple[tuple[Poly, ...], KernelDet | None]:
+    """:func:`module_invariant_factors` and, when step 2 found it, the certified kernel
+    vector of W without its largest row (:class:`~uio_ring.ring._monic_det.KernelDet`,
+    which decides membership in L(W): :func:`~uio_ring.ring._monic_det.in_row_module`)."""
     r, n = W.shape
     one = Poly._wrap(bk.ONE, N.var)
     if r == 0:
-        return ()
+        return (), None
     if r == n and W.degree() == 0:
-        return (one,) * r  # a constant invertible basis: unimodular
+        return (one,) * r, None  # a constant invertible basis: unimodular
     if r < n and left_prime_mod_p(W._r, r, n):
-        return (one,) * r
+        return (one,) * r, None
     if r == n and n > 1:  # deg det W = Σ row degrees > 0 (W is row-reduced): W is not unimodular
         z, _ = integer_rows(W._r)
         largest = max(range(n), key=lambda i: sum(_size(p) for p in z[i]))
         rest = [W._r[i] for i in range(n) if i != largest]
         if left_prime_mod_p(rest, n - 1, n):
-            last = monic_det_by_kernel(z, n, largest)
-            if last is None:  # pragma: no cover - no certified kernel vector within the prime budget
+            kd = kernel_det(z, n, largest)
+            if kd is None:  # pragma: no cover - no certified kernel vector within the prime budget
                 last = bk.monic(bk.from_integer(det_integer(smallest_first(z, n), n)))
-            return (one,) * (n - 1) + (Poly._wrap(last, N.var),)
-    return tuple(invariant_factors(N))
+                return (one,) * (n - 1) + (Poly._wrap(last, N.var),), None
+            return (one,) * (n - 1) + (Poly._wrap(kd.f, N.var),), kd
+    return tuple(invariant_factors(N)), None

@@ -41,12 +41,13 @@ x + 1
 from __future__ import annotations
 
 from collections.abc import Iterator
+from dataclasses import dataclass
 
 import flint
 
 from uio_ring.ring._left_prime import det_nmod
 
-__all__ = ["monic_det_by_kernel"]
+__all__ = ["KernelDet", "in_row_module", "kernel_det", "monic_det_by_kernel"]
 
 _FIRST_PRIME = 1 << 62
 _MAX_PRIMES = 400
@@ -139,8 +140,41 @@ def _reconstruct(vals: list[list[int]], modulus: int) -> list[flint.fmpz_poly] |
     return [flint.fmpz_poly(e) for e in nums]
 
 
+@dataclass(frozen=True)
+class KernelDet:
+    """``f``: monic det W; ``v``: the primitive kernel vector of W without row i (over Z[δ])."""
+
+    f: flint.fmpq_poly
+    v: list[flint.fmpz_poly]
+
+
+def in_row_module(x: list[flint.fmpq_poly], kd: KernelDet) -> bool:
+    """True iff the row x lies in the row module L(W) of the W behind ``kd`` (W without
+    row i left prime, the precondition of :func:`kernel_det`).
+
+    Proof: ``φ(y) = (y·v) mod f`` maps Q[δ]^n onto Q[δ]/(f) (gcd(v) = 1, so some y has
+    y·v = 1) and vanishes on L(W) (``w_j·v = 0`` for j ≠ i, ``w_i·v`` = const·f).  Both
+    ker φ and L(W) have Q-codimension deg f = deg det W, so ``L(W) = ker φ``.
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d = bk.from_coeffs([0, 1])
+    >>> kd = kernel_det([[p.numer() for p in row] for row in [[bk.ONE, d], [bk.ZERO, d + 1]]], 2, 1)
+    >>> in_row_module([bk.ZERO, d * d + d], kd), in_row_module([bk.ZERO, d], kd)
+    (True, False)
+    """
+    xv = sum((flint.fmpq_poly(xj) * vj for xj, vj in zip(x, kd.v, strict=True)), flint.fmpq_poly(0))
+    return bool((xv % kd.f).is_zero())
+
+
 def monic_det_by_kernel(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
                         first_prime: int = _FIRST_PRIME) -> flint.fmpq_poly | None:
+    """:func:`kernel_det` without the kernel vector."""
+    kd = kernel_det(w, n, i, first_prime=first_prime)
+    return None if kd is None else kd.f
+
+
+def kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
+               first_prime: int = _FIRST_PRIME) -> KernelDet | None:
     """monic det W for the n×n rows w over Z[δ] (n ≥ 2, det W ≠ 0), given that W without
     row i is left prime (module docstring; preconditions not checked).  Without that
     precondition the result is ``monic det W / monic gcd`` of the (n−1)-minors of W without
@@ -188,5 +222,5 @@ def monic_det_by_kernel(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
         det = sum((w[i][j] * v[j] for j in range(n)), zero)
         if det.is_zero():  # pragma: no cover - det W ≠ 0 by the precondition
             return None
-        return flint.fmpq_poly(det) / det[det.degree()]
+        return KernelDet(flint.fmpq_poly(det) / det[det.degree()], v)
     return None
