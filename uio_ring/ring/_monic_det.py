@@ -28,8 +28,11 @@ integer content in its minors (random 8-state spec of δ-degree 16: cofactors of
 Bareiss determinant of W computes megabits that the monic result divides away.
 
 Cost: per prime, one Bareiss elimination of an (2n−1)×n matrix over GF(p)[δ]
-(O(n³) products of degree ≤ Σ row degrees); about ``2·bits(v)/61 + 1`` primes; one
-exact product R·v.
+(O(n³) products of degree ≤ Σ row degrees); about ``2·bits(v)/62 + 1`` primes (from
+2^62 up); one exact product R·v.  Random 16-state spec of δ-degree 16: f of degree
+2720 from rows of up to 48 kbit in 34 s, where Bareiss over Z[δ] ran over 13 minutes.
+
+v also decides membership in the row module of W (:func:`in_row_module`).
 
 >>> from uio_ring.ring import _backend as bk
 >>> d = bk.from_coeffs([0, 1])
