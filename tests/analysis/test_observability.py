@@ -177,7 +177,7 @@ def test_module_factors_from_the_weak_popov_basis_equal_elimination(data):
 
 @given(st.data())
 def test_module_factors_of_square_matrices_with_one_non_unit_factor(data):
-    # U·diag(1, …, 1, f)·V: the d_{n−1} = 1 path with the exact determinant
+    # U·diag(1, …, 1, f)·V: the d_{n−1} = 1 path with the kernel-vector determinant
     from ring.strategies import unimodular_matrices
 
     from uio_ring.analysis._module_factors import module_invariant_factors

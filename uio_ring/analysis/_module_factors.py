@@ -11,8 +11,12 @@ basis W of :func:`~uio_ring.ring.row_basis.extend_row_basis` spans the row modul
    its row degrees: it is unimodular only when constant.)
 2. W square (rank n) and W without its largest row left prime: ``d_{n−1} = 1`` (the
    (n−1)-minors of W include those of that submatrix), so the factors are
-   ``1, …, 1, det W / lc`` (Smith); det W exactly by Bareiss over Z[δ]
-   (:func:`~uio_ring.ring._fraction_free.det_integer`).
+   ``1, …, 1, det W / lc`` (Smith); the monic det W from a certified primitive
+   kernel vector of that submatrix (:mod:`uio_ring.ring._monic_det`; random 8-state
+   spec of δ-degree 16: 0.16 s against 0.92 s for the exact Bareiss det W, whose
+   coefficients carry a 7.6 kbit content; 16 states: 34 s for f of degree 2720 from
+   rows of up to 48 kbit, where Bareiss ran over 13 minutes), Bareiss over Z[δ]
+   (:func:`~uio_ring.ring._fraction_free.det_integer`) if no kernel vector is certified.
 3. Otherwise: :func:`~uio_ring.ring.smith.invariant_factors` of ``N_k``.
 
 Steps 1–2 replace exact compressed minors of ``N_k`` (whose integer rows carry
@@ -28,28 +32,39 @@ from __future__ import annotations
 from uio_ring.ring import _backend as bk
 from uio_ring.ring._fraction_free import _size, det_integer, integer_rows, smallest_first
 from uio_ring.ring._left_prime import left_prime_mod_p
+from uio_ring.ring._monic_det import KernelDet, kernel_det
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.ring.smith import invariant_factors
 
-__all__ = ["module_invariant_factors"]
+__all__ = ["module_factors_and_kernel", "module_invariant_factors"]
 
 
 def module_invariant_factors(N: PolyMatrix, W: PolyMatrix) -> tuple[Poly, ...]:
     """The invariant factors of N, given a weak Popov basis W of its row module (module docstring).
     Precondition: W is in weak Popov form and spans the row module of N (not checked)."""
+    return module_factors_and_kernel(N, W)[0]
+
+
+def module_factors_and_kernel(N: PolyMatrix, W: PolyMatrix) -> tuple[tuple[Poly, ...], KernelDet | None]:
+    """:func:`module_invariant_factors` and, when step 2 found it, the certified kernel
+    vector of W without its largest row (:class:`~uio_ring.ring._monic_det.KernelDet`,
+    which decides membership in L(W): :func:`~uio_ring.ring._monic_det.in_row_module`)."""
     r, n = W.shape
     one = Poly._wrap(bk.ONE, N.var)
     if r == 0:
-        return ()
+        return (), None
     if r == n and W.degree() == 0:
-        return (one,) * r  # a constant invertible basis: unimodular
+        return (one,) * r, None  # a constant invertible basis: unimodular
     if r < n and left_prime_mod_p(W._r, r, n):
-        return (one,) * r
+        return (one,) * r, None
     if r == n and n > 1:  # deg det W = Σ row degrees > 0 (W is row-reduced): W is not unimodular
         z, _ = integer_rows(W._r)
         largest = max(range(n), key=lambda i: sum(_size(p) for p in z[i]))
         rest = [W._r[i] for i in range(n) if i != largest]
         if left_prime_mod_p(rest, n - 1, n):
-            det = det_integer(smallest_first(z, n), n)
-            return (one,) * (n - 1) + (Poly._wrap(bk.monic(bk.from_integer(det)), N.var),)
-    return tuple(invariant_factors(N))
+            kd = kernel_det(z, n, largest)
+            if kd is None:  # pragma: no cover - no certified kernel vector within the prime budget
+                last = bk.monic(bk.from_integer(det_integer(smallest_first(z, n), n)))
+                return (one,) * (n - 1) + (Poly._wrap(last, N.var),), None
+            return (one,) * (n - 1) + (Poly._wrap(kd.f, N.var),), kd
+    return tuple(invariant_factors(N)), None

@@ -24,11 +24,12 @@ Known inputs ``u`` play no part: they are measured and can be subtracted.
 from __future__ import annotations
 
 from uio_ring.analysis import _progress
-from uio_ring.analysis._module_factors import module_invariant_factors
+from uio_ring.analysis._module_factors import module_factors_and_kernel
 from uio_ring.analysis._w_step import eliminate_w
 from uio_ring.analysis.report import ObservabilityReport
 from uio_ring.errors import UioRingError
 from uio_ring.ring import _backend as bk
+from uio_ring.ring._monic_det import KernelDet, in_row_module
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.ring.row_basis import extend_row_basis
 from uio_ring.systems.delay_system import DelaySystem
@@ -76,7 +77,11 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
     invariant factors of ``N_k`` are those of that basis; they are all 1, or
     ``1, …, 1, det`` for a square basis, when left primeness is proved modulo one
     prime (:mod:`uio_ring.analysis._module_factors`); when no row is new,
-    ``N_{k+1} = N_k`` and its factors are not recomputed.
+    ``N_{k+1} = N_k`` and its factors are not recomputed.  Once the basis is square with
+    factors ``1, …, 1, f`` found from a certified kernel vector v, the new rows are
+    first tested for membership in its module (``x·v ≡ 0 mod f``,
+    :func:`~uio_ring.ring._monic_det.in_row_module`) — exactly the rows that the
+    reduction would send to zero — instead of being reduced.
 
     Why the reduction changes no module: let ``T_k`` be the row module of pairs
     ``[x-part, w-part]`` spanned by ``[Δ_k A, Δ_k B]``, ``[G_k, F_k]`` and
@@ -126,6 +131,7 @@ def _run(sys: DelaySystem) -> ObservabilityReport:
     Ns: list[PolyMatrix] = [N_k]
     facs: list[tuple[Poly, ...]] = [()]
     cap = _iteration_cap(sys)
+    kd: KernelDet | None = None  # the kernel vector behind the last factor of a square basis
     k = 0
     # Loop invariant: Ns[j], deltas[j], facs[j] hold N_j, Δ_j and the invariant
     # factors of N_j for j = 0 … k; F_k, G_k, Delta_k are the current blocks.
@@ -133,11 +139,18 @@ def _run(sys: DelaySystem) -> ObservabilityReport:
         _progress.note(_size_note(k, basis, Delta_k))
         step = eliminate_w(Delta_k @ B, Delta_k @ A, F_k, G_k)
         F_k, G_k = step.F, step.G
-        ext = extend_row_basis(basis, step.free)
-        Delta_k, basis = ext.rows, ext.basis
+        if kd is not None and all(in_row_module(list(x), kd) for x in step.free._r):
+            # every new row lies in L(basis): extend_row_basis would reduce each to zero
+            Delta_k = PolyMatrix.zeros(0, n)
+        else:
+            ext = extend_row_basis(basis, step.free)
+            Delta_k, basis = ext.rows, ext.basis
         N_k = PolyMatrix.vstack(N_k, Delta_k)
         # N_{k+1} = N_k when no row is new: same matrix, same factors
-        fs = module_invariant_factors(N_k, basis) if Delta_k.rows else facs[k]
+        if Delta_k.rows:
+            fs, kd = module_factors_and_kernel(N_k, basis)
+        else:
+            fs = facs[k]
         deltas.append(Delta_k)
         Ns.append(N_k)
         facs.append(fs)
