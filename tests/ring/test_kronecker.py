@@ -32,3 +32,14 @@ def test_kronecker_product_large_coefficients_and_high_degree():
     assert (a @ b)._r == _entrywise(a, b)
     big = PolyMatrix([[f"{(-1) ** (i + j)}*d**{i} + {j}/3" for j in range(12)] for i in range(12)])
     assert (big @ big)._r == _entrywise(big, big)  # 12³ products: the Kronecker path
+
+
+@given(st.lists(st.integers(-(2**80), 2**80), max_size=12), st.integers(1, 12))
+def test_packing_is_the_value_at_the_power_of_two(coeffs, nbytes):
+    import flint
+
+    from uio_ring.ring._kronecker import _value_at_power_of_two
+
+    p = flint.fmpz_poly(coeffs)
+    s = 8 * nbytes
+    assert _value_at_power_of_two(p, s) == int(p(flint.fmpz(2) ** s))

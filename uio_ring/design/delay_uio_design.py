@@ -28,7 +28,21 @@ from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.systems.delay_system import DelaySystem
 
-__all__ = ["DelayUIODesign", "guard_blocks_for"]
+__all__ = ["DelayUIODesign", "guard_blocks_for", "krylov_matrix"]
+
+
+def krylov_matrix(C_bar: PolyMatrix, A_bar: PolyMatrix, l: int) -> PolyMatrix:
+    """``Ō_l = [C̄; C̄Ā; …; C̄Ā^{l−1}]`` (l ≥ 1), block by block: ``l − 1`` products
+    ``r × n`` by ``n × n`` (each block's product is sized by its own degree and
+    coefficients, cheaper than one product of the stacked blocks).
+
+    >>> krylov_matrix(PolyMatrix("[[1, 0]]"), PolyMatrix("[[0, 1], [d, 0]]"), 3)
+    PolyMatrix([[1, 0], [0, 1], [d, 0]])
+    """
+    blocks = [C_bar]
+    for _ in range(l - 1):
+        blocks.append(blocks[-1] @ A_bar)
+    return PolyMatrix.vstack(*blocks)
 
 
 def guard_blocks_for(sys: DelaySystem) -> int:
@@ -76,6 +90,10 @@ class DelayUIODesign(ObserverDesign):
     """
 
     method: ClassVar[str] = "zheng-bejarano"
+    #: ``Ō_{l*}`` is written to design files as derived: it is ``krylov_matrix(C_bar, A_bar,
+    #: l_star)`` (the certificate's check (12) proves it), and by far the largest matrix
+    #: (216 × 32 of δ-degree 23 with 1400-bit coefficients, 50 MB of text, for 32 states).
+    derived_fields: ClassVar[dict[str, str]] = {"O": "[C̄; C̄Ā; …; C̄Ā^{l*−1}] from C_bar, A_bar and l_star"}
 
     system: DelaySystem
     U: PolyMatrix
@@ -133,10 +151,27 @@ class DelayUIODesign(ObserverDesign):
 
     def certificate(self) -> Certificate:
         """Every identity of Steps 1–5 and Theorem 4, checked exactly (see
-        :func:`uio_ring.verify.delay_uio_certificate`)."""
+        :func:`uio_ring.verify.delay_uio_certificate`); computed once per design object."""
         from uio_ring.verify.delay_uio import delay_uio_certificate
 
-        return delay_uio_certificate(self)
+        return self._memo("certificate", lambda: delay_uio_certificate(self))  # type: ignore[no-any-return]
+
+    @classmethod
+    def derive_field(cls, name: str, fields: dict[str, Any]) -> Any:
+        """``O`` from ``C_bar``, ``A_bar`` and ``l_star`` (:func:`krylov_matrix`); the caller
+        has checked their types.
+
+        >>> des = DelayUIODesign.derive_field("O", {"C_bar": PolyMatrix("[[1, 0]]"),
+        ...                                         "A_bar": PolyMatrix("[[0, 1], [d, 0]]"), "l_star": 2})
+        >>> des
+        PolyMatrix([[1, 0], [0, 1]])
+        """
+        if name != "O":
+            raise KeyError(name)
+        C_bar, A_bar, l_star = fields["C_bar"], fields["A_bar"], fields["l_star"]
+        if not (C_bar.cols == A_bar.rows == A_bar.cols) or l_star < 1:
+            raise ValueError(f"C_bar {C_bar.shape}, A_bar {A_bar.shape} and l_star = {l_star} do not make Ō_l*")
+        return krylov_matrix(C_bar, A_bar, l_star)
 
     def numeric(self, *, h: Any = None) -> Any:
         """The float observer model (one :class:`~uio_ring.numeric.model.ObserverModel`):

@@ -2,7 +2,14 @@
 
 ``load_design(save_design(d, ...)[0]) == d`` for every design class: the files
 hold every field of the design dataclass (matrices as lists of polynomial
-strings, with their shapes so that empty matrices keep them).
+strings, with their shapes so that empty matrices keep them), except the fields
+the design class declares derived (``derived_fields``, e.g. the Krylov matrix
+``Ō_{l*}`` of a Zheng–Bejarano design): those are written as
+``{"$derived": how, "shape": …}`` when they equal their derivation (proved by the
+design's certificate when it was computed, else compared exactly), and
+recomputed exactly on loading.  The ``summary`` (the design's ``to_dict()``)
+shows a matrix whose text exceeds ``SUMMARY_MATRIX_CHARS`` by its outline
+(shape, δ-degree, coefficient bits) instead of its entries: the fields hold it.
 
 A design file is not trusted.  :func:`load_design` reads at most
 ``MAX_DESIGN_BYTES`` from a regular file, bounds every number and matrix
@@ -44,7 +51,11 @@ __all__ = [
     "MAX_DESIGN_BYTES",
 ]
 
-FORMAT_VERSION = 1
+#: 2: derived fields (``$derived``) and outlined large matrices in the summary (files of
+#: version 1 hold every field in full and load unchanged).
+FORMAT_VERSION = 2
+#: A summary matrix whose text would exceed this many characters is shown by its outline.
+SUMMARY_MATRIX_CHARS = 20_000
 #: Largest design file read (bytes).
 MAX_DESIGN_BYTES = 50_000_000
 #: Largest matrix dimension accepted in a design file.
@@ -94,11 +105,14 @@ def design_to_data(design: Any) -> dict[str, Any]:
     float observer model (:meth:`~uio_ring.numeric.model.ObserverModel.to_dict`: coefficient
     arrays per power of δ) for other tools.  ``numeric_derived`` is derived from the exact
     fields and ignored on loading: the exact fields are the design."""
-    from uio_ring.design.base import matrix_text_memo
+    from uio_ring.design.base import abridged_matrices, matrix_text_memo
 
     with matrix_text_memo():  # the summary repeats the fields' matrices: their text is made once
-        fields = {f.name: _encode(getattr(design, f.name)) for f in dataclasses.fields(design) if f.compare}
-        summary = design.to_dict()
+        values = {f.name: getattr(design, f.name) for f in dataclasses.fields(design) if f.compare}
+        derived = _derived_fields(design, values)
+        fields = {name: derived[name] if name in derived else _encode(v) for name, v in values.items()}
+        with abridged_matrices(SUMMARY_MATRIX_CHARS):
+            summary = design.to_dict()
     out = {"uio_ring_design": FORMAT_VERSION, "method": design.method, "fields": fields, "summary": summary}
     try:
         out["numeric_derived"] = design.numeric().to_dict()
@@ -108,6 +122,25 @@ def design_to_data(design: Any) -> dict[str, Any]:
         out["performance_derived"] = design.performance().to_dict()
     except UioRingError as exc:  # nonlinear observer, or delays without h: say why
         out["performance_derived"] = {"not_computed": str(exc)}
+    return out
+
+
+def _derived_fields(design: Any, values: dict[str, Any]) -> dict[str, Any]:
+    """``{name: {"$derived": how, "shape": …}}`` for the design's derived fields that equal
+    their derivation: proved by a certificate already computed and holding (the class
+    declares only fields its certificate proves), else compared exactly here."""
+    out = {}
+    for name, how in getattr(type(design), "derived_fields", {}).items():
+        value = values.get(name)
+        if value is None or not hasattr(value, "shape"):
+            continue
+        if not design.certified():
+            try:
+                if type(design).derive_field(name, values) != value:
+                    continue
+            except (UioRingError, ValueError, KeyError):
+                continue
+        out[name] = {"$derived": how, "shape": list(value.shape)}
     return out
 
 
@@ -220,19 +253,59 @@ def design_from_data(data: Any) -> Any:
     except Exception:  # noqa: BLE001 - annotations that cannot be resolved are not checked
         hints = {}
     kwargs = {}
+    later = []
     for f in dataclasses.fields(cls):
         if not f.compare:
             continue
         if f.name not in fields:
             raise SpecError(f"the design file has no field {f.name!r}", path="fields")
-        kwargs[f.name] = _decode(fields[f.name], f"fields.{f.name}", helpers)
+        raw = fields[f.name]
+        if isinstance(raw, dict) and "$derived" in raw:
+            later.append(f.name)
+            continue
+        kwargs[f.name] = _decode(raw, f"fields.{f.name}", helpers)
         _check_type(kwargs[f.name], hints.get(f.name, Any), f"fields.{f.name}")
+    for name in later:
+        kwargs[name] = _derive(cls, name, fields[name], kwargs)
+        _check_type(kwargs[name], hints.get(name, Any), f"fields.{name}")
     try:
         return cls(**kwargs)
     except SpecError:
         raise
     except (UioRingError, TypeError, ValueError) as exc:
         raise SpecError(f"the fields do not make a {cls.__name__}: {exc}", path="fields") from None
+
+
+def _derive(cls: type, name: str, raw: dict[str, Any], fields: dict[str, Any]) -> Any:
+    """The derived field ``name`` recomputed from the decoded ``fields``: only a field the
+    class declares derived, of a bounded shape, and the result must have that shape.  The
+    derivation is bounded too: a Krylov matrix ``Ō_l`` needs ``l ≤ n`` (Cayley–Hamilton;
+    the design's ``l*`` never exceeds it) and a δ-degree within the parser's bound."""
+    from uio_ring.ring.parse import MAX_DEGREE
+
+    where = f"fields.{name}"
+    if name not in getattr(cls, "derived_fields", {}):
+        raise SpecError(f"the field {name!r} of a {cls.__name__} is not derived: write its value", path=where)
+    shape = raw.get("shape")
+    if (not isinstance(shape, list) or len(shape) != 2
+            or not all(isinstance(k, int) and not isinstance(k, bool) and 0 <= k <= MAX_DESIGN_DIMENSION for k in shape)):
+        raise SpecError(f"shape {shape!r} is not two whole numbers in 0 … {MAX_DESIGN_DIMENSION}", path=where)
+    C_bar: Any = fields.get("C_bar")
+    A_bar: Any = fields.get("A_bar")
+    l: Any = fields.get("l_star")
+    if name == "O" and hasattr(C_bar, "shape") and hasattr(A_bar, "shape") and isinstance(l, int):
+        if not 1 <= l <= max(A_bar.cols, 1) or C_bar.rows * l != shape[0]:
+            raise SpecError(f"l_star = {l} does not give the {shape[0]} rows of Ō (r = {C_bar.rows}, n = {A_bar.cols})",
+                            path=where)
+        if (l - 1) * max(A_bar.degree(), 0) + max(C_bar.degree(), 0) > MAX_DEGREE:
+            raise SpecError(f"Ō would have δ-degree above {MAX_DEGREE}", path=where)
+    try:
+        value = cls.derive_field(name, fields)  # type: ignore[attr-defined]
+    except (UioRingError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise SpecError(f"cannot derive {name} from the other fields ({exc})", path=where) from None
+    if list(value.shape) != shape:
+        raise SpecError(f"the derived {name} is {value.shape[0]}×{value.shape[1]}, the file says {shape}", path=where)
+    return value
 
 
 def _check_type(value: Any, hint: Any, where: str) -> None:
