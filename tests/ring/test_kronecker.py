@@ -43,3 +43,18 @@ def test_packing_is_the_value_at_the_power_of_two(coeffs, nbytes):
     p = flint.fmpz_poly(coeffs)
     s = 8 * nbytes
     assert _value_at_power_of_two(p, s) == int(p(flint.fmpz(2) ** s))
+
+
+@given(dense_matrices(rows=9, cols=3), st.integers(0, 8), st.integers(1, 3))
+def test_sparse_left_factor_product_equals_entrywise_product(b, shift, r):
+    """A block shift plus a few entries (the pattern of L0 = A0 − G0 C0): ``_dense.matmul``
+    takes the row-by-row path for it; the product is the entry-by-entry one."""
+    rows = [[0] * 9 for _ in range(9)]
+    for i in range(9 - shift):
+        rows[i][i + shift] = 1
+    for i in range(9):
+        rows[i][i % r] -= i + 1
+    a = PolyMatrix(rows, shape=(9, 9))
+    nnz = sum(not p.is_zero() for row in a._r for p in row)
+    assert nnz * 3 <= 9 * 9 + 9 * 3  # the sparse path is taken
+    assert dn.matmul(a._r, b._r, 9, 9, 3) == _entrywise(a, b)

@@ -197,7 +197,7 @@ def _least_noise(sys: DelaySystem, ranked: Sequence[Any], choice: str, *, rate: 
         return lambda pat: assemble(
             sys, asm.steps12, asm.Lam, index=asm.index, F_stack=asm.F_stack, O_left_inverse=asm.O_left_inverse,
             T_left_inverse=asm.T_left_inverse, poles=pat, G0_extra=G0_extra, choice=f"{asm.choice}; {label}{note}",
-            assumptions=report)
+            assumptions=report, T=asm.T)
 
     scored = [(*search_poles(builder(asm), asm.index.l_star, rate=alpha, criterion=crit,
                              model=lambda d: d.numeric(h=sys.h), refuse=False), asm)

@@ -199,9 +199,11 @@ def _assemble(
     G0_extra: PolyMatrix | None = None,
     choice: str = "",
     assumptions: AssumptionsReport | None = None,
+    T: PolyMatrix | None = None,
 ) -> DelayUIODesign:
     """Steps 2 (end) to 5 for given choices; the remaining choices take the ring's
-    reduced defaults.  ``G0_extra`` is added to the ``G0`` of the poles (a strictly
+    reduced defaults.  ``T`` is (15) for the given ``F_stack`` when the caller has it
+    (the search does), else computed.  ``G0_extra`` is added to the ``G0`` of the poles (a strictly
     block-triangular coupling, :func:`~uio_ring.design.noise.couple`: same spectrum).
     Precondition: ``Lam`` is unimodular with ``Lam C̃ = [C̄; 0]``."""
     n, p = sys.n_x, sys.n_y
@@ -228,7 +230,8 @@ def _assemble(
     F = F_stack
     if F is None:
         F = _F_from_row(C_bar @ (A_bar**l_star) @ O_left_inverse, r, l_star)
-    T = _normal_form_T(A_bar, C_bar, F, l_star)
+    if T is None or F_stack is None:
+        T = _normal_form_T(A_bar, C_bar, F, l_star)
     if T_left_inverse is None:
         T_left_inverse = left_inverse(T)
     vals = _default_poles(sys, l_star) if poles is None else _read_poles(poles, l_star)
@@ -517,7 +520,7 @@ def design_zheng_bejarano(
     return _assemble(
         sys, best.steps12, best.Lam, index=best.index, F_stack=best.F_stack, O_left_inverse=best.O_left_inverse,
         T_left_inverse=best.T_left_inverse, poles=_default_poles(sys, best.index.l_star, rate) if poles is None
-        else poles, choice=best.choice, assumptions=report,
+        else poles, choice=best.choice, assumptions=report, T=best.T,
     )
 
 
@@ -558,6 +561,7 @@ class _Assembly:
     O_left_inverse: PolyMatrix
     T_left_inverse: PolyMatrix
     choice: str
+    T: PolyMatrix  # (15) for F_stack
 
 
 def _smallest_observers(sys: DelaySystem, Us: list[tuple[str, PolyMatrix]], rho: int) -> list[_Candidate]:
@@ -633,16 +637,22 @@ def _ranked_assemblies(sys: DelaySystem, finalists: list[_Candidate], budget: in
             # of Ō's left kernel (unique), so the first n rows are the reduced left inverse
             both = solve_left(O, PolyMatrix.vstack(_I(n), CAl))
             OL, F_reduced = both[0:n, 0 : O.rows], both[n : n + r, 0 : O.rows]
+            done: list[tuple[PolyMatrix, PolyMatrix, PolyMatrix]] = []  # (F, T, T_L⁻¹) for this Λ
             for f_label in ("F reduced modulo the left kernel of Ō", "F by (16) with the reduced left inverse of Ō"):
                 if len(out) >= budget:
                     break
                 X = F_reduced if f_label.startswith("F reduced") else CAl @ OL
                 F = _F_from_row(X, r, l_star)
-                T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
-                TL = left_inverse(T)
+                # the two ways often give the same F (then the same T and T_L⁻¹: not recomputed)
+                same = next((t for t in done if t[0] == F), None)
+                if same is None:
+                    T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
+                    same = (F, T, left_inverse(T))
+                    done.append(same)
+                _, T, TL = same
                 key = (max(0, TL.degree()), T.degree(), F.degree())
                 choice = f"{cand.label}; {lam_label}; {f_label}; T_L⁻¹ reduced modulo the left kernel of T"
-                out.append(_Assembly(key, s12, Lam, _ObservabilityIndex(l_star, O), F, OL, TL, choice))
+                out.append(_Assembly(key, s12, Lam, _ObservabilityIndex(l_star, O), F, OL, TL, choice, T))
         if len(out) >= budget:
             break
     if not out:  # pragma: no cover - finalists is not empty and budget ≥ 1

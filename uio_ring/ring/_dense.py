@@ -61,6 +61,9 @@ def matmul(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     (:func:`~uio_ring.ring._kronecker.matmul_kronecker`).
     Precondition: shapes fit (not checked)."""
     if m * k * n >= KRONECKER_MIN_PRODUCTS:
+        rows = [[t for t in range(k) if not ai[t].is_zero()] for ai in a]
+        if sum(len(r) for r in rows) * n <= m * k + k * n:
+            return _matmul_sparse_rows(a, b, rows, n)
         return matmul_kronecker(a, b, m, k, n)
     z = bk.ZERO
     out = []
@@ -77,6 +80,22 @@ def matmul(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
                 if not c.is_zero():
                     s = s + ai[t] * c
             row.append(s)
+        out.append(row)
+    return out
+
+
+def _matmul_sparse_rows(a: Rows, b: Rows, rows: list[list[int]], n: int) -> Rows:
+    """``a @ b`` row by row from the nonzero entries of a (``rows[i]``: their columns):
+    ``nnz(a)·n`` polynomial products, fewer than the ``m·k + k·n`` values the Kronecker
+    product packs when a is sparse (a block shift ``A0``, ``L0 = A0 − G0 C0``: one or two
+    entries a row)."""
+    z = bk.ZERO
+    out = []
+    for ai, nz in zip(a, rows, strict=True):
+        row = [z] * n
+        for t in nz:
+            c, bt = ai[t], b[t]
+            row = [x + c * y if not y.is_zero() else x for x, y in zip(row, bt, strict=True)]
         out.append(row)
     return out
 

@@ -23,6 +23,7 @@ these coefficients vanish.
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 from uio_ring.ring.certificate import Certificate, Check
@@ -116,8 +117,10 @@ def delay_uio_certificate(design: Any) -> Certificate:
         r_, rows = d.C_bar.rows, d.O.rows
         if rows != r_ * d.l_star:
             return f"Ō_{{l*}} has {rows} rows, not r·l* = {r_}·{d.l_star}"
-        return {"Ō − [C̄; C̄Ā; …]": PolyMatrix.vstack(d.O[:r_, :] - d.C_bar,
-                                                     d.O[r_:, :] - d.O[: rows - r_, :] @ d.A_bar),
+        # block by block: each product is sized by its own block's degree and coefficients
+        # (one product of the stacked blocks pads every block to the largest)
+        steps = [d.O[k * r_:(k + 1) * r_, :] - d.O[(k - 1) * r_:k * r_, :] @ d.A_bar for k in range(1, d.l_star)]
+        return {"Ō − [C̄; C̄Ā; …]": PolyMatrix.vstack(d.O[:r_, :] - d.C_bar, *steps),
                 "Ō_L⁻¹ Ō − I": d.O_left_inverse @ d.O - _I(n)}
 
     add("(12): Ō_{l*} left unimodular", "Ō_{l*} = [C̄; …; C̄Ā^{l*−1}] left unimodular, Ō_L⁻¹ Ō = I", obs)
@@ -140,15 +143,23 @@ def delay_uio_certificate(design: Any) -> Certificate:
     nz, r = d.T.rows, d.r
     F0 = PolyMatrix.hstack(d.F_stack, _Z(nz, p - r))
     L = d.Lam
+    @functools.cache
+    def small() -> tuple[PolyMatrix, ...]:
+        # the small products of Λ with the system, once, inside the first check that needs
+        # them (shapes that do not fit fail that check): a tall X times Λ C A costs an
+        # n_z × n_y × n_x product instead of n_z × n_x × n_x; the residuals are the same
+        LC = L @ C
+        return LC, L @ D, L @ Fu, LC @ A, LC @ B, LC @ E
 
     def nf_state() -> Any:
         # z = T x, z' = T(Ax + Bw), ȳ = Λ(Cx + Dw), ȳ' = Λ(CAx + CBw + Dw'), u = 0
+        LC, LD, _, LCA, LCB, _ = small()
         P1 = d.K1_bar - F0 @ d.Gamma1_bar
         P2 = F0 + d.K2_bar - F0 @ d.Gamma2_bar
         return {
-            "x": d.T @ A - d.A0 @ d.T - P2 @ L @ C - P1 @ L @ C @ A,
-            "w": d.T @ B - P2 @ L @ D - P1 @ L @ C @ B,
-            "w'": P1 @ L @ D,
+            "x": d.T @ A - d.A0 @ d.T - P2 @ LC - P1 @ LCA,
+            "w": d.T @ B - P2 @ LD - P1 @ LCB,
+            "w'": P1 @ LD,
         }
 
     add("(19′) state equation",
@@ -156,11 +167,12 @@ def delay_uio_certificate(design: Any) -> Certificate:
         nf_state)
 
     def nf_output() -> Any:
+        LC, LD, _, LCA, LCB, _ = small()
         C0z = PolyMatrix.vstack(d.C0, _Z(p - r, nz))
         return {
-            "x": L @ C - C0z @ d.T - d.Gamma1_bar @ L @ C @ A - d.Gamma2_bar @ L @ C,
-            "w": L @ D - d.Gamma1_bar @ L @ C @ B - d.Gamma2_bar @ L @ D,
-            "w'": d.Gamma1_bar @ L @ D,
+            "x": LC - C0z @ d.T - d.Gamma1_bar @ LCA - d.Gamma2_bar @ LC,
+            "w": LD - d.Gamma1_bar @ LCB - d.Gamma2_bar @ LD,
+            "w'": d.Gamma1_bar @ LD,
         }
 
     add("(19′) output equation", "ȳ = [C0; 0] z + Γ̄1 ȳ' + Γ̄2 ȳ along solutions with u = 0", nf_output)
@@ -178,15 +190,16 @@ def delay_uio_certificate(design: Any) -> Certificate:
     add("(22′): L0, H, J", "L0 = A0 − G0C0, H = K̄1 − [F+G0,0]Γ̄1, J = [F+G0,0](I−Γ̄2) + K̄2 + L0H", gains)
 
     def theorem4() -> Any:
+        LC, LD, LF, LCA, LCB, LCE = small()
         JL = d.J - d.L0 @ d.H
         parts = {
-            "x": d.T @ A - JL @ L @ C - d.H @ L @ C @ A - d.L0 @ d.T,
-            "w": d.T @ B - JL @ L @ D - d.H @ L @ C @ B,
-            "w'": d.H @ L @ D,
+            "x": d.T @ A - JL @ LC - d.H @ LCA - d.L0 @ d.T,
+            "w": d.T @ B - JL @ LD - d.H @ LCB,
+            "w'": d.H @ LD,
         }
         if sys.n_u:
-            parts["u"] = d.T @ E - JL @ L @ Fu - d.H @ L @ C @ E - d.J_u + d.L0 @ d.H_u
-            parts["u'"] = d.H @ L @ Fu + d.H_u
+            parts["u"] = d.T @ E - JL @ LF - d.H @ LCE - d.J_u + d.L0 @ d.H_u
+            parts["u'"] = d.H @ LF + d.H_u
         return parts
 
     add("Theorem 4: e' − L0 e = 0",
