@@ -108,6 +108,36 @@ class _ObservabilityIndex:
     O: PolyMatrix
 
 
+class _RowSpaceAtZero:
+    """The row space over Q of the blocks added so far, evaluated at δ = 0: a basis in
+    reduced row echelon form (flint ``fmpq_mat.rref``, exact), extended block by block, so
+    that the rank of ``Ō_l(0)`` costs one small echelon per block instead of the rank of
+    the whole stack.
+
+    >>> rs = _RowSpaceAtZero(2)
+    >>> rs.add(PolyMatrix("[[1, d]]")); rs.rank
+    1
+    >>> rs.add(PolyMatrix("[[2, 3*d], [d, 1]]")); rs.rank
+    2
+    """
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.rank = 0
+        self._rows: list[Any] = []  # flattened constant coefficients of the basis rows
+
+    def add(self, M: PolyMatrix) -> None:
+        import flint
+
+        if self.rank == self.n or M.rows == 0:
+            return
+        new = [p[0] for row in M._r for p in row]  # M(0): the constant coefficients
+        rows = self.rank + M.rows
+        echelon, rank = flint.fmpq_mat(rows, self.n, self._rows + new).rref()
+        self.rank = rank
+        self._rows = [echelon[i, j] for i in range(rank) for j in range(self.n)]
+
+
 def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> _ObservabilityIndex | None:
     """Least ``l`` with ``Ō_l = [C̄; C̄Ā; …; C̄Ā^{l−1}]`` left unimodular, and ``Ō_l``.
 
@@ -120,17 +150,18 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> _Obser
     if r == 0:
         return None
     blocks = [C_bar]
-    at_zero = [C_bar.eval(0)]
+    at_zero = _RowSpaceAtZero(n)
+    at_zero.add(C_bar)
     last = C_bar
     for l in range(1, max(n, 1) + 1):
         if l > 1:
             last = last @ A_bar
             blocks.append(last)
-            at_zero.append(last.eval(0))
+            at_zero.add(last)
         if r * l < n:
             continue
         # necessary (and cheap): full column rank at δ = 0
-        if PolyMatrix.vstack(*at_zero).rank() < n:
+        if at_zero.rank < n:
             continue
         O = PolyMatrix.vstack(*blocks)
         if is_left_unimodular(O):
