@@ -178,6 +178,7 @@ class DelayUIODesign(ObserverDesign):
         ``F = L0``, ``G_y = JΛ``, ``G_u = J_u``, ``D_y = HΛ``, ``D_u = H_u``, ``X = T_L⁻¹``.
 
         ``h`` is needed when the system has none (and the observer has delayed taps).
+        Built once per design object and ``h`` (the model is a frozen dataclass).
 
         >>> from uio_ring import DelaySystem, design_zheng_bejarano
         >>> des = design_zheng_bejarano(DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None))
@@ -187,11 +188,12 @@ class DelayUIODesign(ObserverDesign):
         from uio_ring.numeric.build import model_from_exact
 
         sys = self.system
-        return model_from_exact(
+        h = sys.h if h is None else h
+        return self._memo(("numeric", h), lambda: model_from_exact(  # once per design and h
             F=self.L0, G_y=self.J @ self.Lam, G_u=self.J_u, D_y=self.H @ self.Lam, D_u=self.H_u,
-            X=self.T_left_inverse, initial=self.T.eval(1), h=sys.h if h is None else h,
+            X=self.T_left_inverse, initial=self.T.eval(1), h=h,
             guard_blocks=guard_blocks_for(sys), z_of_x=self.T, method=self.method,
-        )
+        ))
 
     # -- display and data -----------------------------------------------------------
     def __repr__(self) -> str:
