@@ -58,7 +58,9 @@ KRONECKER_MIN_PRODUCTS = 512
 def matmul(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     """``a @ b`` for a (m×k) and b (k×n): entry by entry, or from
     ``KRONECKER_MIN_PRODUCTS`` entry products on by one integer matrix product
-    (:func:`~uio_ring.ring._kronecker.matmul_kronecker`).
+    (:func:`~uio_ring.ring._kronecker.matmul_kronecker`) — unless a is so sparse that
+    its nonzero entries times n do not exceed the ``m·k + k·n`` values that product
+    would pack: then row by row from those entries (:func:`_matmul_sparse_rows`).
     Precondition: shapes fit (not checked)."""
     if m * k * n >= KRONECKER_MIN_PRODUCTS:
         rows = [[t for t in range(k) if not ai[t].is_zero()] for ai in a]
