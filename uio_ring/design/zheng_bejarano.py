@@ -67,10 +67,12 @@ def _gain_from_poles(poles: Sequence[Fraction], r: int) -> PolyMatrix:
 def _shift_matrices(r: int, l: int) -> tuple[PolyMatrix, PolyMatrix]:
     """``A0`` (block shift with ``I_r`` above the diagonal, ``r l × r l``) and
     ``C0 = [I_r, 0, …, 0]`` of (14)."""
+    from uio_ring.ring import _backend as bk
+
     n = r * l
-    rows = [[1 if j == i + r else 0 for j in range(n)] for i in range(n)]
-    A0 = PolyMatrix(rows, shape=(n, n))
-    C0 = PolyMatrix([[1 if j == i else 0 for j in range(n)] for i in range(r)], shape=(r, n))
+    zero, one = bk.ZERO, bk.ONE  # built from the ring's constants: no parsing of n² entries
+    A0 = PolyMatrix._new([[one if j == i + r else zero for j in range(n)] for i in range(n)], n, n, "d")
+    C0 = PolyMatrix._new([[one if j == i else zero for j in range(n)] for i in range(r)], r, n, "d")
     return A0, C0
 
 
