@@ -151,14 +151,19 @@ def delay_uio_certificate(design: Any) -> Certificate:
         LC = L @ C
         return LC, L @ D, L @ Fu, LC @ A, LC @ B, LC @ E
 
+    @functools.cache
+    def t_products() -> tuple[PolyMatrix, PolyMatrix]:
+        return d.T @ A, d.T @ B  # in (19′) and in Theorem 4
+
     def nf_state() -> Any:
         # z = T x, z' = T(Ax + Bw), ȳ = Λ(Cx + Dw), ȳ' = Λ(CAx + CBw + Dw'), u = 0
         LC, LD, _, LCA, LCB, _ = small()
+        TA, TB = t_products()
         P1 = d.K1_bar - F0 @ d.Gamma1_bar
         P2 = F0 + d.K2_bar - F0 @ d.Gamma2_bar
         return {
-            "x": d.T @ A - d.A0 @ d.T - P2 @ LC - P1 @ LCA,
-            "w": d.T @ B - P2 @ LD - P1 @ LCB,
+            "x": TA - d.A0 @ d.T - P2 @ LC - P1 @ LCA,
+            "w": TB - P2 @ LD - P1 @ LCB,
             "w'": P1 @ LD,
         }
 
@@ -191,10 +196,11 @@ def delay_uio_certificate(design: Any) -> Certificate:
 
     def theorem4() -> Any:
         LC, LD, LF, LCA, LCB, LCE = small()
+        TA, TB = t_products()
         JL = d.J - d.L0 @ d.H
         parts = {
-            "x": d.T @ A - JL @ LC - d.H @ LCA - d.L0 @ d.T,
-            "w": d.T @ B - JL @ LD - d.H @ LCB,
+            "x": TA - JL @ LC - d.H @ LCA - d.L0 @ d.T,
+            "w": TB - JL @ LD - d.H @ LCB,
             "w'": d.H @ LD,
         }
         if sys.n_u:
