@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from uio_ring.analysis import _progress
 from uio_ring.analysis._module_factors import module_factors_and_kernel
-from uio_ring.analysis._w_step import eliminate_w
+from uio_ring.analysis._w_step import WStep, eliminate_w
 from uio_ring.analysis.report import ObservabilityReport
 from uio_ring.errors import UioRingError
 from uio_ring.ring import _backend as bk
@@ -132,12 +132,13 @@ def _run(sys: DelaySystem) -> ObservabilityReport:
     facs: list[tuple[Poly, ...]] = [()]
     cap = _iteration_cap(sys)
     kd: KernelDet | None = None  # the kernel vector behind the last factor of a square basis
+    step: WStep | None = None
     k = 0
     # Loop invariant: Ns[j], deltas[j], facs[j] hold N_j, Δ_j and the invariant
     # factors of N_j for j = 0 … k; F_k, G_k, Delta_k are the current blocks.
     while True:
         _progress.note(_size_note(k, basis, Delta_k))
-        step = eliminate_w(Delta_k @ B, Delta_k @ A, F_k, G_k)
+        step = eliminate_w(Delta_k @ B, Delta_k @ A, F_k, G_k, step)
         F_k, G_k = step.F, step.G
         if kd is not None and all(in_row_module(list(x), kd) for x in step.free._r):
             # every new row lies in L(basis): extend_row_basis would reduce each to zero

@@ -38,7 +38,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring.errors import DimensionError
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
-__all__ = ["RowBasisExtension", "extend_row_basis", "is_weak_popov"]
+__all__ = ["RowBasisExtension", "extend_row_basis", "is_weak_popov", "remainder_rows"]
 
 
 @dataclass(frozen=True)
@@ -115,6 +115,43 @@ def _reduce_row(x: list[flint.fmpq_poly], lead: dict[int, list[flint.fmpz_poly]]
                 z = [p // content for p in z]
     content = _content(z)
     return [bk.from_integer(p // content) for p in z]
+
+
+def _remainder(x: list[flint.fmpq_poly], lead: dict[int, list[flint.fmpq_poly]]) -> list[flint.fmpq_poly]:
+    """x minus ``q·b`` (q ∈ Q[δ] the quotient of the leading entries) while a basis row b
+    has the leading position j of x and ``deg b_j ≤ deg x_j`` (:func:`remainder_rows`)."""
+    z = list(x)
+    while True:
+        d, j = dn.leading_position(z)
+        b = lead.get(j)
+        if j < 0 or b is None or b[j].degree() > d:
+            return z
+        q = z[j] // b[j]
+        z = [zi - q * bi if not bi.is_zero() else zi for zi, bi in zip(z, b, strict=True)]
+
+
+def remainder_rows(rows: PolyMatrix, basis: PolyMatrix) -> PolyMatrix:
+    """Each row x of ``rows`` minus an element of L(basis), of lower degree where the
+    weak Popov ``basis`` allows: ``x ← x − q·b`` with q the quotient of ``x_j`` by
+    ``b_j`` over Q[δ], for the basis row b whose leading position is the leading
+    position j of x, while ``deg b_j ≤ deg x_j``.
+
+    Unlike :func:`extend_row_basis` the rows keep their rational scale (no primitive
+    integer row): callers that need ``x − (result) ∈ L(basis)`` exactly, with no unit
+    factor, use this.  Termination: b's leading position is j, so ``deg b_i ≤ deg b_j``
+    for ``i < j`` and ``< deg b_j`` for ``i > j``; after the step ``deg x_j < deg b_j``
+    and the entries right of j stay below ``d = deg x_j``, so the pair (row degree,
+    leading position) decreases — at most ``n·(deg x + 1)`` steps of n products each.
+    Precondition: ``basis`` is in weak Popov form (not checked).
+
+    >>> remainder_rows(PolyMatrix("[[d, d**2 + 1]]"), PolyMatrix("[[0, d]]"))
+    PolyMatrix([[d, 1]])
+    >>> remainder_rows(PolyMatrix("[[d**3, 2*d**2]]"), PolyMatrix("[[2*d, 1]]"))
+    PolyMatrix([[0, 3*d**2/2]])
+    """
+    lead = {dn.leading_position(r)[1]: list(r) for r in basis._r}
+    out = [_remainder(list(r), lead) for r in rows._r]
+    return PolyMatrix._new(out, rows.rows, rows.cols, rows.var)
 
 
 def extend_row_basis(basis: PolyMatrix, rows: PolyMatrix) -> RowBasisExtension:
