@@ -213,6 +213,78 @@ def test_w_step_is_a_unimodular_elimination(sys):
         Delta, F, G = step.free if step.free.rows else PolyMatrix.zeros(0, n), step.F, step.G
 
 
+@given(delay_systems())
+def test_w_step_with_the_small_solution_changes_delta_only_inside_n_k(sys):
+    # after a Hermite step [X; K]·S = [I; 0] (F = I), the step with ``prev`` uses
+    # u = Δ B·X − t·K: same F and G, and the w-free rows differ from Δ A − Δ B·G by
+    # rows of L(K·R), which are the Hermite step's own w-free rows
+    from uio_ring.analysis._w_step import eliminate_w
+    from uio_ring.ring.hermite import hermite_by_elimination
+    from uio_ring.ring.row_basis import is_weak_popov
+
+    def module(M):
+        h = hermite_by_elimination(M)
+        return h.H[0 : h.rank, :]
+
+    n = sys.n_x
+    Delta, F, G = sys.C, sys.D, sys.C
+    first = eliminate_w(Delta @ sys.B, Delta @ sys.A, F, G)
+    S = PolyMatrix.vstack(Delta @ sys.B, F)
+    assert first.X is not None and first.R is not None and first.K is not None
+    assert first.X @ first.R == first.G and first.X @ S == first.F
+    assert (first.K @ S).is_zero() and (first.K.rows == 0 or is_weak_popov(first.K))
+    if first.K.rows:
+        assert module(first.K @ first.R) == module(first.free)
+    if not (first.F.rows and first.F == PolyMatrix.identity(first.F.rows)) or not first.free.rows:
+        return
+    D2 = first.free
+    new = eliminate_w(D2 @ sys.B, D2 @ sys.A, first.F, first.G, first)
+    old = eliminate_w(D2 @ sys.B, D2 @ sys.A, first.F, first.G)
+    assert new.F == old.F and new.G == old.G
+    assert (new.X, new.R, new.K) == (first.X, first.R, first.K)  # carried to the next step
+    diff = new.free - old.free
+    if first.free.rows:
+        assert module(PolyMatrix.vstack(first.free, diff)) == module(first.free)
+    else:
+        assert diff.is_zero()
+    assert new.free.cols == n
+
+
+def test_planted_factor_d_minus_2_through_the_small_solution(monkeypatch):
+    # x = T·z with T = diag(1, 1, δ − 2) applied to a system whose N_k* is unimodular of
+    # rank 3 (A = [[-1, d+1, d+1], [3, 1, -1], [-(d-2), -d(d-2), d**2]], B = [d; -1; 0],
+    # C = [[-d, 3, 0], [3, 0, 0]]): N_k(z) = N_k(x)·T, so the factors are 1, 1, δ − 2.
+    # The F = I step with the small solution must be taken and must not lose δ − 2.
+    import uio_ring.analysis._w_step as ws
+
+    calls = []
+    real = ws.remainder_rows
+    monkeypatch.setattr(ws, "remainder_rows", lambda X, K: calls.append(K.rows) or real(X, K))
+    sys = DelaySystem("[[-1, d + 1, (d + 1)*(d - 2)], [3, 1, -(d - 2)], [-1, -d, d**2]]",
+                      "[[d], [-1], [0]]", "[[-d, 3, 0], [3, 0, 0]]", None)
+    rep = unknown_input_observability(sys)
+    assert calls and all(k > 0 for k in calls)
+    assert [str(f) for f in rep.invariant_factors[rep.k_star]] == ["1", "1", "d - 2"]
+    k_star, facs = _raw_algorithm(sys)
+    assert (rep.k_star, [tuple(f) for f in rep.invariant_factors]) == (k_star, facs)
+
+
+def test_new_rows_do_not_carry_the_left_inverse_size():
+    # random 8-state system of δ-degree 16 (benchmarks/random_spec.py --n 8 --seed 1):
+    # C B is 3×2 with a left inverse X of ≈ 1.3 kbit numerators; Δ_k B·X reduced modulo
+    # the kernel row keeps every Δ_k below that size (Δ_k B·X itself: 1.3–5.2 kbit rows)
+    from uio_ring.ring import _backend as bk
+    from uio_ring.ring.hermite import _hermite_by_toeplitz
+
+    sys = _random_system(1, 8, 2, 3, 16)
+    h = _hermite_by_toeplitz(sys.C @ sys.B, min_rows=0)
+    X = h.U[0 : h.rank, :]
+    x_bits = max(int(p.numer().height_bits()) for row in X._r for p in row)
+    rep = unknown_input_observability(sys)
+    delta_bits = max(bk.bits(p) for D in rep.Delta for row in D._r for p in row)
+    assert rep.k_star >= 5 and delta_bits < x_bits
+
+
 def _random_system(seed, n, m, p, degree):
     import random as _random
 

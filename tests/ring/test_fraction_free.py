@@ -13,7 +13,7 @@ from uio_ring.ring import _evaluation as ev
 from uio_ring.ring import _fraction_free as ff
 from uio_ring.ring.hermite import hermite
 from uio_ring.ring.matrix import PolyMatrix
-from uio_ring.ring.row_basis import extend_row_basis, is_weak_popov
+from uio_ring.ring.row_basis import extend_row_basis, is_weak_popov, remainder_rows
 from uio_ring.ring.smith import invariant_factors, invariant_factors_by_elimination
 
 from .strategies import dense_matrices, matrices, square_matrices, unimodular_matrices
@@ -161,6 +161,39 @@ def test_fraction_free_reduction_equals_the_rational_one(B0, X, Y, every):
         assert all(rb._reduce_row(list(x), lead_z) == [] for x in inside)
     finally:
         rb._CONTENT_EVERY = old
+
+
+@given(dense_matrices(min_rows=0, max_rows=3, cols=3), dense_matrices(min_rows=1, max_rows=3, cols=3),
+       st.integers(0, 3))
+def test_remainder_rows_subtracts_module_elements_and_is_reduced(B0, Y, shift):
+    from uio_ring.ring import _dense as dn
+
+    rows = dn.copy(B0._r)
+    dn.weak_popov(rows)
+    rows = [r for r in rows if any(not p.is_zero() for p in r)]
+    B = PolyMatrix._new(rows, len(rows), 3, "d")
+    # rows with a large part inside L(B): the reduction must remove it
+    X = Y + PolyMatrix([[f"{i - j + 2}*d**{shift + i}" for j in range(B.rows)] for i in range(Y.rows)]) @ B \
+        if B.rows else Y
+    got = remainder_rows(X, B)
+    assert got.shape == X.shape
+    lead = {dn.leading_position(r)[1]: r for r in B._r}
+    for i in range(X.rows):
+        diff = X[i, :] - got[i, :]
+        if B.rows:  # x − r ∈ L(B), with no unit factor: L(B) + L(x − r) = L(B)
+            assert _module(PolyMatrix.vstack(B, diff)) == _module(B)
+        else:
+            assert diff.is_zero()
+        d, j = dn.leading_position(got._r[i])
+        assert j < 0 or j not in lead or lead[j][j].degree() > d  # nothing left to divide
+        assert got[i, :].degree() <= X[i, :].degree()
+
+
+def test_remainder_rows_keeps_the_scale():
+    # x = 3·b + r exactly: the remainder is r, not a unit multiple of it
+    B = PolyMatrix("[[d**2, 1]]")
+    X = PolyMatrix("[[3*d**3 + 1/2, 3*d + 5]]")
+    assert remainder_rows(X, B) == PolyMatrix("[[1/2, 5]]")
 
 
 def test_extend_row_basis_refuses_bad_input():
