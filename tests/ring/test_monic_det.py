@@ -88,6 +88,21 @@ def test_cofactors_mod_p_are_the_determinants_with_a_unit_row(M, zero_col):
     assert _cofactors_mod_p(z, n, p) == want
 
 
+def test_cofactors_mod_p_after_row_swaps():
+    # zero pivots in columns 0 and 1 force swaps (sign flips) before the back substitution
+    from uio_ring.ring._monic_det import _cofactors_mod_p
+
+    d = flint.fmpz_poly([0, 1])
+    rows = [[flint.fmpz_poly(0), flint.fmpz_poly(0), d, 1 + d],
+            [flint.fmpz_poly(0), d, flint.fmpz_poly(2), flint.fmpz_poly(3)],
+            [d * d, flint.fmpz_poly(1), flint.fmpz_poly(0), d]]
+    p, n = 101, 4
+    zero, one = flint.nmod_poly([], p), flint.nmod_poly([1], p)
+    rp = [[flint.nmod_poly(e, p) for e in row] for row in rows]
+    want = [det_nmod(rp + [[one if j == c else zero for j in range(n)]], n, p) for c in range(n)]
+    assert _cofactors_mod_p(rows, n, p) == want and not all(w.is_zero() for w in want)
+
+
 @settings(max_examples=40, deadline=None)
 @given(st.integers(2, 4), st.sampled_from(["d + 1", "d**2 - 3", "(d - 1)**2", "2*d**3 + d"]), st.data())
 def test_row_module_membership_equals_reduction_to_zero(n, f, data):

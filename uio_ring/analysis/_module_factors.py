@@ -14,7 +14,7 @@ basis W of :func:`~uio_ring.ring.row_basis.extend_row_basis` spans the row modul
    ``1, …, 1, det W / lc`` (Smith); the monic det W from a certified primitive
    kernel vector of that submatrix (:mod:`uio_ring.ring._monic_det`; random 8-state
    spec of δ-degree 16: 0.16 s against 0.92 s for the exact Bareiss det W, whose
-   coefficients carry a 7.6 kbit content; 16 states: f of degree 2720 in 16 s from
+   coefficients carry a 7.6 kbit content; 16 states: f of degree 2720 in 8 s from
    rows of up to 4.2 kbit, 34 s from the 48 kbit rows before the small solution of
    :mod:`~uio_ring.analysis._w_step`, where Bareiss ran over 13 minutes), Bareiss over Z[δ]
    (:func:`~uio_ring.ring._fraction_free.det_integer`) if no kernel vector is certified.
