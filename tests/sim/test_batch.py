@@ -217,16 +217,20 @@ def test_compiled_linear_loops_equal_numpy(zb, dt, perturb, monkeypatch):
                    plant=perturbed_plant(base, 0.05, k) if perturb and k else None) for k in range(9)]
     kw = dict(t_final=0.08, dt=dt, trajectories=True, segment_steps=230)
     import uio_ring.numeric.linear_kernel as lk
+    import uio_ring.numeric.scenario_kernel as sk
 
     calls = []
-    for name in ("tap_sum", "scan_rows", "stencil_scan"):  # count the compiled loops' calls (numba path)
-        f = getattr(lk, name)
-        monkeypatch.setattr(lk, name, lambda *a, f=f, name=name: calls.append(name) or f(*a))
+    for mod, name in ((lk, "tap_sum"), (lk, "scan_rows"), (sk, "_run")):  # count the compiled loops' calls
+        f = getattr(mod, name)
+        monkeypatch.setattr(mod, name, lambda *a, f=f, name=name: calls.append(a[0] if name == "_run" else name) or f(*a))
     ref = simulate_batch(zb, sc, kernel="python", **kw)
     assert not calls
     res = simulate_batch(zb, sc, kernel="numba", **kw)
-    # the observer's forcing and steps in one pass once its start's stencils are behind (t ≥ 6 h)
-    assert set(calls) == {"tap_sum", "scan_rows"} | ({"stencil_scan"} if dt == 1e-4 else set())
+    # the plant time-major (tap_sum, scan_rows); the observer scenario-innermost (taps, and the
+    # stencil forcing with the steps in one pass; N = h/dt = 10: the plant's grouped block maps)
+    # (perturbed plants: stacked block maps, in numpy)
+    plant = set() if perturb else {"tap_sum"} | ({"scan_rows"} if dt < 1e-3 else set())
+    assert set(calls) == plant | {"tap", "scan"}
     for name in ("x", "y", "x_hat"):
         a, b = getattr(res, name), getattr(ref, name)
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b)), name
@@ -242,6 +246,7 @@ def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, monkeypatch
     import numba
 
     import uio_ring.numeric.linear_kernel as lk
+    import uio_ring.numeric.scenario_kernel as sk
 
     if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
         pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
@@ -256,10 +261,18 @@ def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, monkeypatch
     assert lk.chunks(37) == 2
     blocks = []
     loops = lk._compiled()
-    monkeypatch.setattr(lk, "_compiled", lambda: loops[:3] + tuple(
-        (lambda *a, f=f, i=i: blocks.append((i, a[-1])) or f(*a)) for i, f in enumerate(loops[3:])))
+    monkeypatch.setattr(lk, "_compiled", lambda: loops[:2] + tuple(
+        (lambda *a, f=f, i=i: blocks.append((i, a[-1])) or f(*a)) for i, f in enumerate(loops[2:])))
+    compiled_k = sk._compiled
+
+    def counted(kind, r):  # the serial loop, and the parallel one recording its blocks
+        serial, par = compiled_k(kind, r)
+        return serial, lambda *a: blocks.append((kind, a[-1])) or par(*a)
+
+    monkeypatch.setattr(sk, "_compiled", counted)
     two = simulate_batch(zb, sc, kernel="numba", **kw)
-    assert set(blocks) == {(0, 2), (1, 2), (2, 2)}  # taps, scans and fused steps, each in two blocks
+    # the plant's taps and steps, the observer's taps and fused steps: each in two blocks
+    assert set(blocks) == {(0, 2), (1, 2), ("tap", 2), ("scan", 2)}
     for name in ("x", "y", "x_hat"):
         assert np.array_equal(getattr(one, name), getattr(two, name)), name
     for name in METRICS:

@@ -443,24 +443,37 @@ class _BatchObserver:
         self.pad = max(st.lag * st.N, 0 if st.Wm is None else (st.Wm.shape[0] - 1) * st.N)
         self.scan = LinearScan(st.Phi, chunk=16) if st.inj is None else None
         self.PhiT = st.Phi.T.copy()
-        self.WstT = None if st.W is None else np.stack([Wm.T for Wm in st.W])  # the cubic stencil, row form
         self.binj = None if st.inj is None else _BatchInjection(st.inj)
         self.Ytail: np.ndarray | None = None
         self.Utail = self.Ztail = self.xi = np.zeros(0)
         self.started = False
         self.z0: np.ndarray | None = None
+        #: numba, a linear observer with the cubic forcing: every segment scenario-innermost, compiled
+        self.lin_k = None
+        if kernel == "numba" and st.inj is None and st.cubic:
+            from uio_ring.sim.batch_linear import LinearObserverK
+
+            self.lin_k = LinearObserverK(st, u_history, self.pad, self._xi_from)
 
     def start_exact(self, Yp: np.ndarray, Up: np.ndarray, z0: np.ndarray) -> None:
         """Start from the true past (``exact_start``): y, u at ``j = −Lt … −1`` (time-major rows)
         and ``ẑ(0)`` ``(K, n_z)``, instead of y held at y(0), u from its history and x̂(0)."""
         self.Ytail, self.Utail, self.z0 = Yp, Up, z0
+        if self.lin_k is not None:
+            self.lin_k.start_exact(Yp, Up)
 
     def _xi0(self, Yrows: np.ndarray, Urows: np.ndarray, off: int) -> np.ndarray:
         st = self.st
-        K = len(self.scen)
         D0 = _bsum(st.Dy, Yrows, 0, 0, st.N, off)[0]
         if st.n_u:
             D0 = D0 + _bsum(st.Du, Urows, 0, 0, st.N, off)[0]
+        return self._xi_from(D0)
+
+    def _xi_from(self, D0: np.ndarray) -> np.ndarray:
+        """``ξ(0)`` ``(K, n_z)`` from ``D(δ) y`` (and u) at t = 0: ``ẑ(0) − D0`` for ``exact_start``,
+        else ``initial · x̂(0) − D0`` for the scenarios with ``x_hat0``, else 0."""
+        st = self.st
+        K = len(self.scen)
         if self.z0 is not None:
             return self.z0 - D0
         xi = np.zeros((K, st.n_z))
@@ -477,6 +490,9 @@ class _BatchObserver:
         """``x̂`` (and ``ŵ``) at the new samples ``jlo …`` from y, u there: ``(S, K, n_x)``."""
         st, N, Lt = self.st, self.st.N, self.Lt
         Sn, K = Y.shape[0], Y.shape[1]
+        if self.lin_k is not None:
+            self.started = True
+            return self.lin_k.segment(jlo, Y, U)
         if st.n_u == 0:
             U = np.zeros((Sn, K, 0))
         first, self.started = not self.started, True
@@ -498,14 +514,7 @@ class _BatchObserver:
             D += _bsum(st.Du, Urows, jlo, j1, N, off, kern)
         steps = np.arange(jlo - 1 if not first else 0, j1)  # the steps j → j + 1 of this segment
         xi_prev = self._xi0(Yrows, Urows, off) if first else self.xi
-        one_pass = self.binj is None and kern == "numba" and st.cubic and steps.size > 0 and (K >= 8 or steps.size <= 32)
-        if one_pass and steps[0] >= st.guard_blocks * N:  # past the start's stencils: forcing and steps fused
-            from uio_ring.numeric.linear_kernel import stencil_scan
-
-            g0 = int(steps[0]) - (jlo - 3)
-            Xi = stencil_scan(G, np.array([g0 - 2, g0 - 1, g0, g0 + 1]), np.ascontiguousarray(self.WstT), self.PhiT,
-                              xi_prev, np.empty((steps.size, K, st.n_z)))
-        elif self.binj is not None:
+        if self.binj is not None:
             Xi = self._loop(xi_prev, self._forcing(G, steps, jlo), G, Yrows, Urows, off, steps, jlo)
         elif K >= 8 or steps.size <= 32:  # one small product per step carries K scenarios
             Xi = scan_rows(self.PhiT, xi_prev, self._forcing(G, steps, jlo), kern)  # the forcing: this segment's own array
