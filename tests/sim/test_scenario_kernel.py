@@ -151,3 +151,32 @@ def test_without_numba_the_numpy_path_runs(monkeypatch):
     monkeypatch.setattr(bl.LinearObserverK, "segment", None)  # would fail if called
     res = _batch(zb, "auto")
     assert np.array_equal(res.x_hat, ref.x_hat)
+
+
+@needs_numba
+def test_compiled_metrics_equal_numpy_metrics():
+    """The compiled one-pass metrics (uio_ring.numeric.metrics_kernel) against _Metrics.update on the
+    same errors, across segments: converging, diverging (inf, NaN) and oscillating runs, a settle
+    time inside a segment; indices and maxima exactly, sums of squares to rounding."""
+    from uio_ring.sim.batch import _Metrics
+
+    rng = np.random.default_rng(4)
+    K, n, T = 6, 3, 230
+    t = np.arange(T)[:, None, None] * 0.01
+    X = rng.normal(size=(T, K, n)) * np.exp(-t * np.array([1, 5, 20, 0.0, -3, 10])[None, :, None])
+    X[100:, 4, 1] = np.inf  # diverges at sample 100
+    X[150, 5, 0] = np.nan  # one NaN, then recovers
+    X[:, 3] = 0.5 * np.sin(7 * t[:, :, 0])  # oscillates around tol
+    xh = np.zeros_like(X)
+    a, b = (_Metrics(K, 0.01, 0.05, 1e3, 0.9, kernel=k) for k in ("python", "numba"))
+    for lo, hi in ((0, 70), (70, 71), (71, 160), (160, T)):
+        a.update_xy(lo, X[lo:hi], xh[lo:hi])
+        b.update_xy(lo, X[lo:hi], xh[lo:hi])
+    ra, rb = a.result(T - 1), b.result(T - 1)
+    for name in METRICS:
+        exact = name not in ("rms_after", "rms_settled")
+        if exact:
+            assert np.array_equal(ra[name], rb[name], equal_nan=True), name
+        else:
+            assert np.allclose(ra[name], rb[name], rtol=1e-13, atol=0, equal_nan=True), name
+    assert np.isfinite(ra["t_diverge"][4]) and np.isnan(ra["t_diverge"][0])

@@ -46,7 +46,7 @@ from uio_ring.errors import DimensionError, SimulationError
 from uio_ring.numeric.backend import resolve_kernel
 from uio_ring.numeric.expint import LinearScan
 from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
-from uio_ring.numeric.history import sample_history
+from uio_ring.numeric.history import sample_history, sample_signal
 from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import StackedBlockIntegrator, block_integrator, scan_rows, tap_rows
@@ -360,11 +360,15 @@ class _BatchPlant:
         cache = self._cache.get(which)
         if cache is None or j_min < cache[0] or j_max > cache[1]:
             K = len(self.scen)
-            hi = max(j_max, j_min + INPUT_WINDOW // max(K * n, 1))
+            # (not past the last block: a short run samples its horizon only)
+            hi = max(j_max, min(j_min + INPUT_WINDOW // max(K * n, 1), self.n_steps + self.N))
             arr = np.empty((hi - j_min + 1, K, n))
+            t = np.arange(j_min, hi + 1) * self.dt  # (as input_samples: one time grid for every callable)
             for k, sc in enumerate(self.scen):
-                arr[:, k] = input_samples(getattr(sc, which), n, j_min=j_min, j_max=hi, n_steps=self.n_steps,
-                                          dt=self.dt, name=which).T
+                sig = getattr(sc, which)
+                arr[:, k] = (sample_signal(sig, t, n, which) if callable(sig) and n else
+                             input_samples(sig, n, j_min=j_min, j_max=hi, n_steps=self.n_steps, dt=self.dt,
+                                           name=which)).T
             cache = self._cache[which] = (j_min, hi, arr)
         return cache[2][j_min - cache[0] : j_max - cache[0] + 1]
 
@@ -624,8 +628,9 @@ def _error_norm(X: np.ndarray, xh: np.ndarray) -> np.ndarray:
 class _Metrics:
     """On-the-fly error metrics of K runs (see :data:`METRICS`)."""
 
-    def __init__(self, K: int, dt: float, tol: float, diverge: float, settle: float):
+    def __init__(self, K: int, dt: float, tol: float, diverge: float, settle: float, kernel: str = "python"):
         self.dt, self.tol, self.diverge = dt, tol, diverge
+        self.kernel = kernel  # "numba": error and statistics in one compiled pass (numeric.metrics_kernel)
         self.j_settle = int(np.ceil(settle / dt - 1e-9))
         self.max_set = np.zeros(K)
         self.sq_set = np.zeros(K)
@@ -639,6 +644,18 @@ class _Metrics:
         self.t_peak = np.zeros(K)
         self.final = nan.copy()
         self.t_diverge = nan.copy()
+
+    def update_xy(self, jlo: int, X: np.ndarray, xh: np.ndarray) -> None:
+        """:meth:`update` with the error of the samples ``x``, ``x̂`` (time-major ``(S, K, n)``)."""
+        if self.kernel != "numba":
+            self.update(jlo, _error_norm(X, xh).T)
+            return
+        from uio_ring.numeric.metrics_kernel import update_metrics
+
+        update_metrics(X, xh, jlo, self.dt, self.tol, self.diverge, self.j_settle, self.last_bad, self.max_after,
+                       self.sumsq, self.count, self.peak, self.t_peak, self.final, self.t_diverge, self.max_set,
+                       self.sq_set)
+        self.n_set += max(0, X.shape[0] - max(self.j_settle - jlo, 0))
 
     def update(self, jlo: int, e: np.ndarray) -> None:
         """``e`` ``(K, S)``: the error norm at ``j = jlo … jlo + S − 1``."""
@@ -951,7 +968,7 @@ def simulate_batch(
                 uh[:, k] = input_samples(sc.u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=dtv, name="u").T
         bo = _BatchObserver(stepper, scen, uh, lin)
         tf = n_steps * dtv
-        met = _Metrics(K, dtv, tolv, divv, tf / 2 if settle is None else float(settle))
+        met = _Metrics(K, dtv, tolv, divv, tf / 2 if settle is None else float(settle), lin)
         width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4
         nb = _segment_blocks(K, bp.N, width, segment_steps)
         if feedback is None:
@@ -966,7 +983,7 @@ def simulate_batch(
                 if on_segment is not None:
                     t = np.arange(jo, jo + X.shape[0]) * dtv
                     on_segment(Segment(t=t, x=X, y=Y, w=W, u=U, x_hat=xh, w_hat=wh))
-                met.update(jo, _error_norm(X, xh).T)
+                met.update_xy(jo, X, xh)
                 if trajectories:
                     keep.append((X, Y, xh, wh))
                 bar.update(jo + X.shape[0])
