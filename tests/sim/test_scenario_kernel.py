@@ -180,3 +180,24 @@ def test_compiled_metrics_equal_numpy_metrics():
         else:
             assert np.allclose(ra[name], rb[name], rtol=1e-13, atol=0, equal_nan=True), name
     assert np.isfinite(ra["t_diverge"][4]) and np.isnan(ra["t_diverge"][0])
+
+
+@needs_numba
+@pytest.mark.parametrize("delays, N", [(0, 17), (1, 20), (2, 33)])
+def test_plant_blocks_scenario_innermost_equal_run_rows(delays, N):
+    """run_blocks_k (the plant's blocks scenario-innermost) against BlockIntegrator.run_rows (numpy):
+    delayed states, input forcing and left limits at the block ends (end_fix), to 1e-12."""
+    from uio_ring.sim._blocks import BlockIntegrator
+    from uio_ring.sim.batch_plant_k import run_blocks_k
+
+    rng = np.random.default_rng(N)
+    n, K, nb = 3, 11, 3
+    A = rng.normal(size=(delays + 1, n, n))
+    A[0] -= 2 * np.eye(n)
+    integ = BlockIntegrator(A, N, 0.3 / N)
+    X = rng.normal(size=(delays * N + nb * N + 1, K, n))
+    fin, fix = rng.normal(size=(nb * N + 1, K, n)), rng.normal(size=(K, nb, n))
+    XT = np.ascontiguousarray(X.transpose(0, 2, 1))
+    integ.run_rows(X, fin, nb, end_fix=fix)
+    run_blocks_k(integ, XT, np.ascontiguousarray(fin.transpose(0, 2, 1)), nb, end_fix=fix)
+    assert np.max(np.abs(XT.transpose(0, 2, 1) - X)) <= 1e-12 * np.max(np.abs(X))

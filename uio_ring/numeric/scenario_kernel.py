@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["TapPairs", "tap_pairs", "tap_sum_k", "stencil_scan_k"]
+__all__ = ["TapPairs", "tap_pairs", "tap_sum_k", "delayed_sum_k", "stencil_scan_k"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,6 +80,18 @@ def tap_sum_k(S: np.ndarray, starts: np.ndarray, pairs: TapPairs, out: np.ndarra
     prow = np.asarray(starts, dtype=np.int64)[pairs.taps]
     _run("tap", pairs.r, S, prow, pairs.cols, pairs.weights, out)
     return out
+
+
+def delayed_sum_k(pairs: TapPairs, S: np.ndarray, j0: int, L: int, offset: int, N: int) -> np.ndarray:
+    """``Σ_i M_i s(t_j − i h)`` for ``j = j0 … j0 + L − 1`` (``S[offset + j] = s(t_j)``, h = N steps;
+    ``pairs`` of the stack ``M``): ``(L, r, K)`` (:func:`tap_sum_k` at the starts ``offset + j0 − i N``).
+
+    >>> S = np.arange(8.0).reshape(4, 2, 1)
+    >>> delayed_sum_k(tap_pairs(np.stack([np.eye(2), np.eye(2)])), S, 1, 2, 0, 1)[:, :, 0].tolist()
+    [[2.0, 4.0], [6.0, 8.0]]
+    """
+    starts = offset + j0 - N * np.arange(int(pairs.taps.max(initial=0)) + 1)
+    return tap_sum_k(S, starts, pairs, np.empty((L, pairs.r, S.shape[2])))
 
 
 def stencil_scan_k(S: np.ndarray, starts: np.ndarray, pairs: TapPairs, PhiT: np.ndarray, x0: np.ndarray,

@@ -336,6 +336,14 @@ class _BatchPlant:
         #: time-major block integration (:meth:`~uio_ring.sim._blocks.BlockIntegrator.run_rows`): one
         #: plant and blocks of more than SUPER_MAX_N steps (else the grouped block maps of ``run``)
         self.rows = not isinstance(self.integ, StackedBlockIntegrator) and self.integ.method != "super"
+        #: numba and the time-major steps: the segments scenario-innermost (:mod:`uio_ring.sim.batch_plant_k`)
+        self.pairs = None
+        if self.rows and kernel == "numba":
+            from uio_ring.numeric.scenario_kernel import tap_pairs
+            from uio_ring.sim.batch_linear import row_form
+
+            self.pairs = {name: tap_pairs(row_form(M)) if M.shape[0] else None
+                          for name, M in (("B", S.B), ("E", S.E), ("C", S.C), ("D", S.D), ("F", S.F))}
         self.b0 = 0
         self.noise = [sc.noise_model() for sc in scenarios]
         self._cache: dict[str, tuple[int, int, np.ndarray]] = {}
@@ -389,6 +397,57 @@ class _BatchPlant:
                 out[:, k, i] = np.random.Generator(bg).uniform(-1.0, 1.0, size=m) * amp[i]
         return out
 
+    def _fix(self, nb: int) -> np.ndarray | None:
+        """The left limits at the ends of the segment's first blocks (array inputs that jump at 0)."""
+        if not (self.Kin and self.b0 < self.Kin and np.any(self.end_fix)):
+            return None
+        fix = np.zeros((len(self.scen), nb, self.S.n_x))
+        c = min(self.Kin - self.b0, nb)
+        fix[:, :c] = self.end_fix[:, self.b0 : self.b0 + c]
+        return fix
+
+    def _segment_k(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`segment` scenario-innermost (``(rows, ·, K)`` arrays, compiled loops); x and y are
+        handed out as time-major views."""
+        from uio_ring.numeric.scenario_kernel import delayed_sum_k
+        from uio_ring.sim.batch_linear import rows_k
+        from uio_ring.sim.batch_plant_k import run_blocks_k
+
+        S, N, b0, P = self.S, self.N, self.b0, self.pairs
+        assert P is not None
+        K, a0 = len(self.scen), b0 * N
+        KxN, KinN = self.Kx * N, self.Kin * N
+        W = self._inputs("w", S.n_w, a0 - KinN, a0 + nb * N)
+        U = self._inputs("u", S.n_u, a0 - KinN, a0 + nb * N)
+        WT = rows_k(np.zeros((0, S.n_w, K)), W)
+        UT = rows_k(np.zeros((0, S.n_u, K)), U) if P["E"] is not None or P["F"] is not None else None
+
+        def taps(name: str, rows: np.ndarray | None, j0: int, L: int, off: int, into: np.ndarray) -> None:
+            if P[name] is not None and rows is not None:
+                into += delayed_sum_k(P[name], rows, j0, L, off, N)
+
+        fin = np.zeros((nb * N + 1, S.n_x, K))
+        taps("B", WT, 0, nb * N + 1, KinN, fin)
+        taps("E", UT, 0, nb * N + 1, KinN, fin)
+        XT = np.empty((KxN + nb * N + 1, S.n_x, K))  # XT[KxN + j − a0] = x(t_j)
+        XT[: KxN + 1] = self.Xtail.transpose(0, 2, 1)
+        run_blocks_k(self.integ, XT[(self.Kx - self.KA) * N :], fin, nb, self._fix(nb))
+        jlo = 0 if b0 == 0 else a0 + 1
+        jhi = min(a0 + nb * N, self.n_steps)
+        self.Xtail = XT[nb * N :].copy().transpose(0, 2, 1)  # time-major view (the closed loop reads x(0))
+        L = jhi - jlo + 1
+        YT = np.zeros((L, S.n_y, K))
+        taps("C", XT, jlo, L, KxN - a0, YT)
+        taps("D", WT, jlo, L, KinN - a0, YT)
+        taps("F", UT, jlo, L, KinN - a0, YT)
+        nz = self._noise(S.n_y, jlo, jhi)
+        if nz is not None:
+            YT += nz.transpose(0, 2, 1)
+        self.b0 = b0 + nb
+        sl = slice(KxN + jlo - a0, KxN + jhi - a0 + 1)
+        rows = slice(KinN + jlo - a0, KinN + jhi - a0 + 1)
+        return jlo, jhi, XT[sl].transpose(0, 2, 1), YT.transpose(0, 2, 1), W[rows], U[rows]
+
     def segment(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Integrate ``nb`` blocks; return ``(jlo, jhi, X, Y, W, U)`` for the new samples ``jlo … jhi``
         (time-major: ``(jhi − jlo + 1, K, ·)``; the first segment includes ``j = 0``)."""
@@ -397,6 +456,8 @@ class _BatchPlant:
         b0 = self.b0
         a0 = b0 * N
         nb = max(1, min(nb, -(-(self.n_steps - a0) // N)))  # not past the horizon
+        if self.pairs is not None:
+            return self._segment_k(nb)
         KxN, KinN = self.Kx * N, self.Kin * N
         X = np.empty((KxN + nb * N + 1, K, S.n_x))  # time-major: X[KxN + j − a0] = x(t_j)
         X[: KxN + 1] = self.Xtail

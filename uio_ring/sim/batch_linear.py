@@ -33,9 +33,15 @@ from typing import Any
 
 import numpy as np
 
-from uio_ring.numeric.scenario_kernel import TapPairs, stencil_scan_k, tap_pairs, tap_sum_k
+from uio_ring.numeric.scenario_kernel import (
+    TapPairs,
+    delayed_sum_k,
+    stencil_scan_k,
+    tap_pairs,
+    tap_sum_k,
+)
 
-__all__ = ["LinearObserverK"]
+__all__ = ["LinearObserverK", "row_form", "rows_k"]
 
 
 class LinearObserverK:
@@ -50,12 +56,12 @@ class LinearObserverK:
         self.N, self.Lt, self.pad, self.xi0 = st.N, st.history_length + 1, pad, xi0
         self.u_history = u_history  # (L, K, n_u), time-major
         self.PhiT = np.ascontiguousarray(st.Phi.T)
-        self.Gy, self.Dy, self.X = tap_pairs(_row_form(st.Gy)), tap_pairs(_row_form(st.Dy)), tap_pairs(_row_form(st.X))
+        self.Gy, self.Dy, self.X = tap_pairs(row_form(st.Gy)), tap_pairs(row_form(st.Dy)), tap_pairs(row_form(st.X))
         self.Gu = self.Du = None
         if st.n_u:
-            self.Gu, self.Du = tap_pairs(_row_form(st.Gu)), tap_pairs(_row_form(st.Du))
-        self.Wm = None if st.Wm is None else tap_pairs(_row_form(st.Wm))
-        self.W = tap_pairs(_row_form(np.asarray(st.W)))  # the cubic stencil at nodes −2 … 1
+            self.Gu, self.Du = tap_pairs(row_form(st.Gu)), tap_pairs(row_form(st.Du))
+        self.Wm = None if st.Wm is None else tap_pairs(row_form(st.Wm))
+        self.W = tap_pairs(row_form(np.asarray(st.W)))  # the cubic stencil at nodes −2 … 1
         self.eye = tap_pairs(np.eye(st.n_z)[None])  # steps of a given forcing
         self.YtailT: np.ndarray | None = None
         self.UtailT = self.ZtailT = np.zeros(0)
@@ -71,8 +77,7 @@ class LinearObserverK:
         """``Σ_i M_i s(t_j − i h)`` for ``j = j0 … j0 + L − 1``: ``(L, r, K)`` (``rows[off + j] = s(t_j)``);
         added to ``into`` when given."""
         assert pairs is not None
-        starts = off + j0 - self.N * np.arange(int(pairs.taps.max(initial=0)) + 1)
-        out = tap_sum_k(rows, starts, pairs, np.empty((L, pairs.r, rows.shape[2])))
+        out = delayed_sum_k(pairs, rows, j0, L, off, self.N)
         if into is None:
             return out
         into += out
@@ -87,8 +92,8 @@ class LinearObserverK:
         if self.YtailT is None:  # y held at y(0) before 0; u from its history (and one more row, never read)
             self.YtailT = np.repeat(_t(Y[:1]), Lt, axis=0)
             self.UtailT = _t(np.concatenate([self.u_history[:1], self.u_history], axis=0))
-        Yr = _rows(self.YtailT, Y)  # Yr[Lt + j − jlo] = y(t_j), (rows, n_y, K)
-        Ur = _rows(self.UtailT, U) if st.n_u else None
+        Yr = rows_k(self.YtailT, Y)  # Yr[Lt + j − jlo] = y(t_j), (rows, n_y, K)
+        Ur = rows_k(self.UtailT, U) if st.n_u else None
         off = Lt - jlo
         G = self._taps(self.Gy, Yr, jlo - 3, Sn + 3, off)  # G[j − jlo + 3] = g(t_j)
         D = self._taps(self.Dy, Yr, jlo, Sn, off)
@@ -137,7 +142,7 @@ class LinearObserverK:
             F[sel] = _apply(Ws[0], G[gi[sel] - 1]) + _apply(Ws[1], G[gi[sel]]) + _apply(Ws[2], G[gi[sel] + 1])
 
 
-def _row_form(M: np.ndarray) -> np.ndarray:
+def row_form(M: np.ndarray) -> np.ndarray:
     """``(m, r, c)`` coefficient matrices → ``(m, c, r)`` (the transposed ones, row-vector form)."""
     return np.ascontiguousarray(np.asarray(M, dtype=float).transpose(0, 2, 1))
 
@@ -147,7 +152,7 @@ def _t(A: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(A.transpose(0, 2, 1))
 
 
-def _rows(tail: np.ndarray, new: np.ndarray) -> np.ndarray:
+def rows_k(tail: np.ndarray, new: np.ndarray) -> np.ndarray:
     """The tail ``(T, c, K)`` followed by the time-major rows ``new`` ``(S, K, c)``: ``(T + S, c, K)``."""
     out = np.empty((tail.shape[0] + new.shape[0], new.shape[2], new.shape[1]))
     out[: tail.shape[0]] = tail
