@@ -423,8 +423,9 @@ class _BatchPlant:
         UT = rows_k(np.zeros((0, S.n_u, K)), U) if P["E"] is not None or P["F"] is not None else None
 
         def taps(name: str, rows: np.ndarray | None, j0: int, L: int, off: int, into: np.ndarray) -> None:
-            if P[name] is not None and rows is not None:
-                into += delayed_sum_k(P[name], rows, j0, L, off, N)
+            pairs = P[name]
+            if pairs is not None and rows is not None:
+                into += delayed_sum_k(pairs, rows, j0, L, off, N)
 
         fin = np.zeros((nb * N + 1, S.n_x, K))
         taps("B", WT, 0, nb * N + 1, KinN, fin)
