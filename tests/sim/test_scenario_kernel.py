@@ -201,3 +201,19 @@ def test_plant_blocks_scenario_innermost_equal_run_rows(delays, N):
     integ.run_rows(X, fin, nb, end_fix=fix)
     run_blocks_k(integ, XT, np.ascontiguousarray(fin.transpose(0, 2, 1)), nb, end_fix=fix)
     assert np.max(np.abs(XT.transpose(0, 2, 1) - X)) <= 1e-12 * np.max(np.abs(X))
+
+
+def test_generated_loops_are_written_once_per_source(tmp_path, monkeypatch):
+    """The loops' source modules live in $UIO_RING_KERNEL_DIR, one file per source text (named by its
+    hash), never rewritten (a rewrite would invalidate numba's cache of it); the text is the generator's."""
+    import uio_ring.numeric.scenario_kernel as sk
+
+    monkeypatch.setenv(sk.KERNEL_DIR_ENV, str(tmp_path / "k"))
+    src = sk._source("tap", 3)
+    a = sk._module_path(src, "tap_r3")
+    stamp = a.stat().st_mtime_ns
+    b = sk._module_path(src, "tap_r3")
+    assert a == b and a.parent == tmp_path / "k" and a.read_text() == src and b.stat().st_mtime_ns == stamp
+    c = sk._module_path(sk._source("scan", 3), "scan_r3")
+    assert c != a and "def loop(S, prow, pcol, W, PhiT, x0, out, k0, k1):" in c.read_text()
+    compile(c.read_text(), str(c), "exec")  # valid Python

@@ -36,7 +36,13 @@ rounding (summation order).
 from __future__ import annotations
 
 import functools
+import hashlib
+import importlib.util
+import os
+import sys
+import tempfile
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -141,6 +147,9 @@ def _indent(lines: list[str], n: int) -> list[str]:
     return [" " * (4 * n) + s for s in lines]
 
 
+#: Coefficient rows applied per pass over the outputs (their loads and stores shared).
+GROUP = 4
+
 #: The scenario range as unsigned integers: indices numba need not wrap around (a signed index
 #: may be negative, and the test for it keeps the loop from vectorising: measured 2.2× slower).
 _RANGE = ["u0, u1 = np.uint64(k0), np.uint64(k1)"]
@@ -148,16 +157,17 @@ _RANGE = ["u0, u1 = np.uint64(k0), np.uint64(k1)"]
 
 def _source(kind: str, r: int) -> str:
     """Source text of the loop ``kind`` (``"tap"`` or ``"scan"``) for r outputs."""
-    one = ["src0 = S[prow[p] + l, pcol[p]]"]
-    two = one + ["src1 = S[prow[p + 1] + l, pcol[p + 1]]"]
-    tap_body = (["P = prow.shape[0]", "p = 0", "if P % 2 == 1:"]
-                + _indent(one + _pair_pass(r, ["src0"], ["W[p"], "=") + ["p = 1"], 1)
-                + ["elif P == 0:"]
-                + _indent(["for k in range(u0, u1):"] + _indent([f"o[{j}, k] = 0.0" for j in range(r)], 1), 1)
-                + ["else:"]
-                + _indent(two + _pair_pass(r, ["src0", "src1"], ["W[p", "W[p + 1"], "=") + ["p = 2"], 1)
-                + ["while p < P:"]
-                + _indent(two + _pair_pass(r, ["src0", "src1"], ["W[p", "W[p + 1"], "+=") + ["p += 2"], 1))
+    def srcs(m: int) -> list[str]:
+        return [f"src{i} = S[prow[p + {i}] + l, pcol[p + {i}]]" for i in range(m)]
+
+    def rows_pass(m: int, op: str) -> list[str]:
+        return srcs(m) + _pair_pass(r, [f"src{i}" for i in range(m)], [f"W[p + {i}" for i in range(m)], op)
+
+    tap_body = ["P = prow.shape[0]", "p = 0", f"rem = P % {GROUP}", "if P == 0:"]
+    tap_body += _indent(["for k in range(u0, u1):"] + _indent([f"o[{j}, k] = 0.0" for j in range(r)], 1), 1)
+    for m in range(1, GROUP + 1):  # the first pass stores: the remainder's rows, or a whole group
+        tap_body += [f"elif rem == {m % GROUP}:"] + _indent(rows_pass(m, "=") + [f"p = {m}"], 1)
+    tap_body += ["while p < P:"] + _indent(rows_pass(GROUP, "+=") + [f"p += {GROUP}"], 1)
     if kind == "tap":
         head = "def loop(S, prow, pcol, W, out, k0, k1):"
         body = _RANGE + ["for l in range(out.shape[0]):"] + _indent(["o = out[l]"] + tap_body, 1)
@@ -167,27 +177,50 @@ def _source(kind: str, r: int) -> str:
                "        loop(S, prow, pcol, W, out, ch * size, min(K, ch * size + size))"]
     else:
         head = "def loop(S, prow, pcol, W, PhiT, x0, out, k0, k1):"
-        step = ["prev = x0 if l == 0 else out[l - 1]", "q = 0", "while q + 1 < PhiT.shape[0]:"]
-        step += _indent(["x0q, x1q = prev[q], prev[q + 1]"]
-                        + _pair_pass(r, ["x0q", "x1q"], ["PhiT[q", "PhiT[q + 1"], "+=") + ["q += 2"], 1)
-        step += ["if q < PhiT.shape[0]:"] + _indent(["x0q = prev[q]"] + _pair_pass(r, ["x0q"], ["PhiT[q"], "+="), 1)
+        step = ["prev = x0 if l == 0 else out[l - 1]", "q = 0", "while q + 1 < PhiT.shape[0]:"]  # Φ x, rows in pairs
+        step += _indent(["xa, xb = prev[q], prev[q + 1]"]
+                        + _pair_pass(r, ["xa", "xb"], ["PhiT[q", "PhiT[q + 1"], "+=") + ["q += 2"], 1)
+        step += ["if q < PhiT.shape[0]:"] + _indent(["xa = prev[q]"] + _pair_pass(r, ["xa"], ["PhiT[q"], "+="), 1)
         body = _RANGE + ["for l in range(out.shape[0]):"] + _indent(["o = out[l]"] + tap_body + step, 1)
         par = ["def par(S, prow, pcol, W, PhiT, x0, out, nchunks):",
                "    K = out.shape[2]", "    size = (K + nchunks - 1) // nchunks",
                "    for ch in prange(nchunks):",
                "        loop(S, prow, pcol, W, PhiT, x0, out, ch * size, min(K, ch * size + size))"]
-    return "\n".join([head] + _indent(body, 1) + [""] + par) + "\n"
+    module = ["import numpy as np", "from numba import njit, prange", "",
+              "", "@njit(nogil=True, cache=True)", head] + _indent(body, 1)
+    return "\n".join(module + ["", "", "@njit(nogil=True, parallel=True, cache=True)"] + par) + "\n"
 
 
 @functools.cache
 def _compiled(kind: str, r: int) -> tuple[Any, Any]:
-    """The serial loop and its parallel driver for ``kind`` and r outputs (compiled on first use)."""
+    """The serial loop and its parallel driver for ``kind`` and r outputs, from their source
+    module (:func:`_module_path`: numba caches the compiled loops beside it, so a new process
+    loads them instead of compiling)."""
     from uio_ring.errors import require
 
-    numba = require("numba", extra="fast")
-    ns: dict[str, Any] = {"prange": numba.prange, "np": np}
-    exec(compile(_source(kind, r), f"<uio_ring.numeric.scenario_kernel {kind} r={r}>", "exec"), ns)  # noqa: S102
-    loop = numba.njit(nogil=True)(ns["loop"])
-    ns["loop"] = loop
-    par = numba.njit(nogil=True, parallel=True)(ns["par"])
-    return loop, par
+    require("numba", extra="fast")
+    path = _module_path(_source(kind, r), f"{kind}_r{r}")
+    spec = importlib.util.spec_from_file_location(f"_uio_ring_scenario_{kind}_r{r}", path)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # importable by name: numba's cache reloads the loops' module by it
+    spec.loader.exec_module(mod)
+    return mod.loop, mod.par
+
+
+#: The environment variable with the directory of the generated loops' source modules (default:
+#: ``uio_ring-kernels`` in the temporary directory).
+KERNEL_DIR_ENV = "UIO_RING_KERNEL_DIR"
+
+
+def _module_path(source: str, name: str) -> Path:
+    """The file holding ``source`` (named by its hash: a changed generator writes a new file; an
+    existing file is never rewritten, which would invalidate numba's cache of it)."""
+    root = Path(os.environ.get(KERNEL_DIR_ENV) or Path(tempfile.gettempdir()) / "uio_ring-kernels")
+    root.mkdir(parents=True, exist_ok=True)
+    path = root / f"scenario_{name}_{hashlib.sha256(source.encode()).hexdigest()[:16]}.py"
+    if not path.exists():
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(source)
+        os.replace(tmp, path)
+    return path
