@@ -29,6 +29,7 @@ True
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -41,32 +42,89 @@ from uio_ring.numeric.scenario_kernel import (
     tap_sum_k,
 )
 
-__all__ = ["LinearObserverK", "row_form", "rows_k"]
+__all__ = ["LinearObserverK", "decoupled_parts", "row_form", "rows_k"]
+
+
+@dataclass(frozen=True, eq=False)
+class _Part:
+    """The observer restricted to a set of states ``idx`` of ξ that no other state drives (Φ and the
+    stencil weights couple none of them with the rest): its tap stacks (coefficient rows) and Φᵀ."""
+
+    idx: np.ndarray
+    Gy: TapPairs
+    Dy: TapPairs
+    Gu: TapPairs | None
+    Du: TapPairs | None
+    W: TapPairs
+    eye: TapPairs
+    PhiT: np.ndarray
+    X: TapPairs
+    Wm: TapPairs | None
+    W_first: np.ndarray
+    W_second: np.ndarray
+
+
+def decoupled_parts(mats: list[np.ndarray]) -> list[np.ndarray]:
+    """The connected components of the states coupled by the square matrices ``mats`` (i ~ j when
+    some ``M[i, j] ≠ 0``), each sorted, in order of their smallest state (union–find, O(n² len(mats))).
+
+    >>> [c.tolist() for c in decoupled_parts([np.array([[1.0, 0, 2], [0, 1, 0], [0, 0, 1]])])]
+    [[0, 2], [1]]
+    """
+    n = mats[0].shape[0]
+    root = list(range(n))
+
+    def find(i: int) -> int:
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    for M in mats:
+        for i, j in np.argwhere(M != 0.0):
+            a, b = find(int(i)), find(int(j))
+            if a != b:
+                root[max(a, b)] = min(a, b)
+    comps: dict[int, list[int]] = {}
+    for i in range(n):
+        comps.setdefault(find(i), []).append(i)
+    return [np.array(c) for c in comps.values()]
 
 
 class LinearObserverK:
     """The segments of a linear observer with cubic forcing for K scenarios, scenario-innermost.
 
     ``xi0(D0)`` gives the initial ``ξ(0)`` ``(K, n_z)`` from ``D(δ) y`` at t = 0 (the batch
-    observer's rule: ``x_hat0``, ``exact_start``'s ẑ(0), else 0).
+    observer's rule: ``x_hat0``, ``exact_start``'s ẑ(0), else 0).  States of ξ that Φ and the
+    stencil weights do not couple (:func:`decoupled_parts`; paper 001: two chains of three) run
+    as separate recursions: the zero blocks cost no products.
     """
 
     def __init__(self, stepper: Any, u_history: np.ndarray, pad: int, xi0: Callable[[np.ndarray], np.ndarray]):
         st = self.st = stepper
         self.N, self.Lt, self.pad, self.xi0 = st.N, st.history_length + 1, pad, xi0
         self.u_history = u_history  # (L, K, n_u), time-major
-        self.PhiT = np.ascontiguousarray(st.Phi.T)
-        self.Gy, self.Dy, self.X = tap_pairs(row_form(st.Gy)), tap_pairs(row_form(st.Dy)), tap_pairs(row_form(st.X))
-        self.Gu = self.Du = None
-        if st.n_u:
-            self.Gu, self.Du = tap_pairs(row_form(st.Gu)), tap_pairs(row_form(st.Du))
-        self.Wm = None if st.Wm is None else tap_pairs(row_form(st.Wm))
-        self.W = tap_pairs(row_form(np.asarray(st.W)))  # the cubic stencil at nodes −2 … 1
-        self.eye = tap_pairs(np.eye(st.n_z)[None])  # steps of a given forcing
+        W = np.asarray(st.W)
+        self.parts = [self._part(st, W, idx) for idx in decoupled_parts([st.Phi, *W, *st.W_first, *st.W_second])]
         self.YtailT: np.ndarray | None = None
-        self.UtailT = self.ZtailT = np.zeros(0)
-        self.xiT = np.zeros((st.n_z, 0))  # ξ at the last sample, (n_z, K)
+        self.UtailT = np.zeros(0)
+        self.ZtailT: list[np.ndarray] = []  # per part: ẑ before the segment (pad rows)
+        self.xiT: list[np.ndarray] = []  # per part: ξ at the last sample, (r, K)
         self.started = False
+
+    @staticmethod
+    def _part(st: Any, W: np.ndarray, idx: np.ndarray) -> _Part:
+        def rows(M: np.ndarray) -> TapPairs:  # the part's rows of a stack (m, n_z, c)
+            return tap_pairs(row_form(M[:, idx, :]))
+
+        def cols(M: np.ndarray) -> TapPairs:  # the part's columns of a stack (m, r, n_z)
+            return tap_pairs(row_form(M[:, :, idx]))
+
+        sq = np.ix_(idx, idx)
+        return _Part(idx, rows(st.Gy), rows(st.Dy), rows(st.Gu) if st.n_u else None, rows(st.Du) if st.n_u else None,
+                     tap_pairs(row_form(W[:, idx][:, :, idx])), tap_pairs(np.eye(idx.size)[None]),
+                     np.ascontiguousarray(st.Phi[sq].T), cols(st.X), None if st.Wm is None else cols(st.Wm),
+                     np.stack([Wm[sq] for Wm in st.W_first]), np.stack([Wm[sq] for Wm in st.W_second]))
 
     def start_exact(self, Yp: np.ndarray, Up: np.ndarray) -> None:
         """The true past of y and u (time-major ``(Lt, K, ·)``) instead of y held at y(0)."""
@@ -86,47 +144,76 @@ class LinearObserverK:
     def segment(self, jlo: int, Y: np.ndarray, U: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         """``x̂`` (and ``ŵ``) at the samples ``jlo …`` from y, u there (time-major ``(S, K, ·)``):
         time-major views ``(S, K, n_x)``."""
-        st, N, Lt, pad = self.st, self.N, self.Lt, self.pad
-        Sn, K = Y.shape[0], Y.shape[1]
+        st, Lt = self.st, self.Lt
+        Sn = Y.shape[0]
         first, self.started = not self.started, True
         if self.YtailT is None:  # y held at y(0) before 0; u from its history (and one more row, never read)
             self.YtailT = np.repeat(_t(Y[:1]), Lt, axis=0)
             self.UtailT = _t(np.concatenate([self.u_history[:1], self.u_history], axis=0))
         Yr = rows_k(self.YtailT, Y)  # Yr[Lt + j − jlo] = y(t_j), (rows, n_y, K)
         Ur = rows_k(self.UtailT, U) if st.n_u else None
-        off = Lt - jlo
-        G = self._taps(self.Gy, Yr, jlo - 3, Sn + 3, off)  # G[j − jlo + 3] = g(t_j)
-        D = self._taps(self.Dy, Yr, jlo, Sn, off)
-        if Ur is not None:
-            self._taps(self.Gu, Ur, jlo - 3, Sn + 3, off, into=G)
-            self._taps(self.Du, Ur, jlo, Sn, off, into=D)
-        s0 = 0 if first else jlo - 1  # the steps s0 … j1 − 1 (j → j + 1) of this segment
-        M = jlo + Sn - 1 - s0
-        xi_prev = np.ascontiguousarray(self.xi0(D[0].T).T) if first else self.xiT
-        g0 = s0 - (jlo - 3)  # G row of g(t_{s0})
-        nodes = np.array([g0 - 2, g0 - 1, g0, g0 + 1])
-        Xi = np.empty((M, st.n_z, K))
-        if M and s0 >= st.guard_blocks * N:  # past the start's stencils: forcing and steps in one pass
-            stencil_scan_k(G, nodes, self.W, self.PhiT, xi_prev, Xi)
-        elif M:
-            F = tap_sum_k(G, nodes, self.W, np.empty((M, st.n_z, K)))
-            self._guarded(F, G, s0, g0)
-            stencil_scan_k(F, np.zeros(1, dtype=np.int64), self.eye, self.PhiT, xi_prev, Xi)
-        if first:
-            Xi = np.concatenate([xi_prev[None], Xi], axis=0)
-        self.xiT = Xi[-1].copy()
-        Z = np.empty((pad + Xi.shape[0], st.n_z, K))  # ẑ = ξ + D(δ) y after its tail
-        np.add(Xi, D, out=Z[pad:])
-        Z[:pad] = Z[pad] if first else self.ZtailT  # held at ẑ(0) before 0
-        xh = self._taps(self.X, Z, jlo, Sn, pad - jlo)
-        wh = None if self.Wm is None else self._taps(self.Wm, Z, jlo, Sn, pad - jlo).transpose(0, 2, 1)
+        xi_all = None
+        xh: np.ndarray | None = None
+        wh: np.ndarray | None = None
+        for c, part in enumerate(self.parts):
+            D = self._taps(part.Dy, Yr, jlo, Sn, Lt - jlo)
+            if Ur is not None:
+                self._taps(part.Du, Ur, jlo, Sn, Lt - jlo, into=D)
+            if first:
+                if xi_all is None:  # ξ(0) of all states from D(δ) y at t = 0 of all states
+                    D0 = np.empty((Y.shape[1], st.n_z))
+                    for q in self.parts:
+                        D0[:, q.idx] = (self._taps(q.Dy, Yr, 0, 1, Lt)[0] if Ur is None else
+                                        self._taps(q.Dy, Yr, 0, 1, Lt)[0] + self._taps(q.Du, Ur, 0, 1, Lt)[0]).T
+                    xi_all = self.xi0(D0)
+                xi_prev = np.ascontiguousarray(xi_all[:, part.idx].T)
+            else:
+                xi_prev = self.xiT[c]
+            Z = self._part_segment(c, part, jlo, Yr, Ur, D, xi_prev, first)
+            xp = self._taps(part.X, Z, jlo, Sn, self.pad - jlo)
+            xh = xp if xh is None else np.add(xh, xp, out=xh)
+            if part.Wm is not None:
+                wp = self._taps(part.Wm, Z, jlo, Sn, self.pad - jlo)
+                wh = wp if wh is None else np.add(wh, wp, out=wh)
+        assert xh is not None
         self.YtailT = Yr[Yr.shape[0] - Lt :].copy()
         if Ur is not None:
             self.UtailT = Ur[Ur.shape[0] - Lt :].copy()
-        self.ZtailT = Z[Z.shape[0] - pad :].copy()
-        return xh.transpose(0, 2, 1), wh
+        return xh.transpose(0, 2, 1), None if wh is None else wh.transpose(0, 2, 1)
 
-    def _guarded(self, F: np.ndarray, G: np.ndarray, s0: int, g0: int) -> None:
+    def _part_segment(self, c: int, part: _Part, jlo: int, Yr: np.ndarray, Ur: np.ndarray | None, D: np.ndarray,
+                      xi_prev: np.ndarray, first: bool) -> np.ndarray:
+        """ẑ of one part on the segment after its tail ``(pad + S, r, K)``; keeps its ξ and tail."""
+        st, N, pad, off = self.st, self.N, self.pad, self.Lt - jlo
+        Sn, K, r = D.shape[0], D.shape[2], part.idx.size
+        G = self._taps(part.Gy, Yr, jlo - 3, Sn + 3, off)  # G[j − jlo + 3] = g(t_j)
+        if Ur is not None:
+            self._taps(part.Gu, Ur, jlo - 3, Sn + 3, off, into=G)
+        s0 = 0 if first else jlo - 1  # the steps s0 … j1 − 1 (j → j + 1) of this segment
+        M = jlo + Sn - 1 - s0
+        g0 = s0 - (jlo - 3)  # G row of g(t_{s0})
+        nodes = np.array([g0 - 2, g0 - 1, g0, g0 + 1])
+        Xi = np.empty((M, r, K))
+        if M and s0 >= st.guard_blocks * N:  # past the start's stencils: forcing and steps in one pass
+            stencil_scan_k(G, nodes, part.W, part.PhiT, xi_prev, Xi)
+        elif M:
+            F = tap_sum_k(G, nodes, part.W, np.empty((M, r, K)))
+            self._guarded(part, F, G, s0, g0)
+            stencil_scan_k(F, np.zeros(1, dtype=np.int64), part.eye, part.PhiT, xi_prev, Xi)
+        if first:
+            Xi = np.concatenate([xi_prev[None], Xi], axis=0)
+        Z = np.empty((pad + Xi.shape[0], r, K))  # ẑ = ξ + D(δ) y after its tail
+        np.add(Xi, D, out=Z[pad:])
+        Z[:pad] = Z[pad] if first else self.ZtailT[c]  # held at ẑ(0) before 0
+        if first:
+            self.xiT.append(Xi[-1].copy())
+            self.ZtailT.append(Z[Z.shape[0] - pad :].copy())
+        else:
+            self.xiT[c] = Xi[-1].copy()
+            self.ZtailT[c] = Z[Z.shape[0] - pad :].copy()
+        return Z
+
+    def _guarded(self, part: _Part, F: np.ndarray, G: np.ndarray, s0: int, g0: int) -> None:
         """The first two steps of each guarded block (``ObserverStepper._forcing_table``): the
         one-sided stencils ``W_first`` (nodes 0, 1) and ``W_second`` (nodes −1, 0, 1), in place."""
         st, N = self.st, self.N
@@ -135,9 +222,9 @@ class LinearObserverK:
         gi = steps - s0 + g0
         r = steps % N
         sel = np.nonzero((steps < end) & (r == 0))[0]
-        F[sel] = _apply(st.W_first[0], G[gi[sel]]) + _apply(st.W_first[1], G[gi[sel] + 1])
+        Wf, Ws = part.W_first, part.W_second
+        F[sel] = _apply(Wf[0], G[gi[sel]]) + _apply(Wf[1], G[gi[sel] + 1])
         if N > 1:
-            Ws = st.W_second
             sel = np.nonzero((steps < end) & (r == 1))[0]
             F[sel] = _apply(Ws[0], G[gi[sel] - 1]) + _apply(Ws[1], G[gi[sel]]) + _apply(Ws[2], G[gi[sel] + 1])
 
