@@ -226,10 +226,10 @@ def test_compiled_linear_loops_equal_numpy(zb, dt, perturb, monkeypatch):
     ref = simulate_batch(zb, sc, kernel="python", **kw)
     assert not calls
     res = simulate_batch(zb, sc, kernel="numba", **kw)
-    # plant (N = h/dt > 16: its steps) and observer scenario-innermost: taps, and the stencil forcing
+    # plant (N = h/dt > 16: its steps) and observer scenario-innermost: taps (set or added), the stencil forcing
     # with the steps in one pass; N = 10: the plant's grouped block maps and its taps time-major
     # (tap_sum); perturbed plants: stacked block maps, in numpy
-    assert set(calls) == {"tap", "scan"} | ({"tap_sum"} if dt == 1e-3 and not perturb else set())
+    assert set(calls) == {"tap", "acc", "scan"} | ({"tap_sum"} if dt == 1e-3 and not perturb else set())
     for name in ("x", "y", "x_hat"):
         a, b = getattr(res, name), getattr(ref, name)
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b)), name
@@ -273,7 +273,7 @@ def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, dt, monkeyp
     monkeypatch.setattr(sk, "_compiled", counted)
     two = simulate_batch(zb, sc, kernel="numba", **kw)
     # the taps and the fused steps, each in two blocks
-    assert set(blocks) == {("tap", 2), ("scan", 2)} | ({(0, 2)} if dt == 1e-3 else set())
+    assert set(blocks) == {("tap", 2), ("acc", 2), ("scan", 2)} | ({(0, 2)} if dt == 1e-3 else set())
     for name in ("x", "y", "x_hat"):
         assert np.array_equal(getattr(one, name), getattr(two, name)), name
     for name in METRICS:

@@ -47,6 +47,9 @@ def test_tap_sum_k_equals_numpy(r, K):
     out = tap_sum_k(S, starts, tap_pairs(M), np.full((L, r, K), np.nan))
     ref = _reference_taps(S, starts, M, L)
     assert np.max(np.abs(out - ref)) <= 1e-12 * max(np.max(np.abs(ref)), 1.0)
+    base = rng.normal(size=(L, r, K))
+    acc = tap_sum_k(S, starts, tap_pairs(M), base.copy(), accumulate=True)  # added in the same pass
+    assert np.max(np.abs(acc - (base + ref))) <= 1e-12 * max(np.max(np.abs(ref)), 1.0)
 
 
 @needs_numba

@@ -76,27 +76,32 @@ def tap_pairs(M: np.ndarray) -> TapPairs:
                     np.ascontiguousarray(M[nz[:, 0], nz[:, 1]]).reshape(len(nz), M.shape[2]))
 
 
-def tap_sum_k(S: np.ndarray, starts: np.ndarray, pairs: TapPairs, out: np.ndarray) -> np.ndarray:
+def tap_sum_k(S: np.ndarray, starts: np.ndarray, pairs: TapPairs, out: np.ndarray, accumulate: bool = False,
+              ) -> np.ndarray:
     """``out[l, j, k] = Σ_p pairs.weights[p, j] · S[starts[pairs.taps[p]] + l, pairs.cols[p], k]``
-    for ``l < len(out)``; returns ``out``.
+    for ``l < len(out)`` (``accumulate``: added to ``out``, in the same pass); returns ``out``.
 
-    ``S`` ``(R, c, K)``, ``out`` ``(L, r, K)``; C-contiguous float64.  No pair: zeros.
+    ``S`` ``(R, c, K)``, ``out`` ``(L, r, K)``; C-contiguous float64.  No pair: zeros (or ``out``).
     Precondition: every row read is inside ``S`` (not checked).
     """
     prow = np.asarray(starts, dtype=np.int64)[pairs.taps]
-    _run("tap", pairs.r, S, prow, pairs.cols, pairs.weights, out)
+    _run("acc" if accumulate else "tap", pairs.r, S, prow, pairs.cols, pairs.weights, out)
     return out
 
 
-def delayed_sum_k(pairs: TapPairs, S: np.ndarray, j0: int, L: int, offset: int, N: int) -> np.ndarray:
+def delayed_sum_k(pairs: TapPairs, S: np.ndarray, j0: int, L: int, offset: int, N: int,
+                  into: np.ndarray | None = None) -> np.ndarray:
     """``Σ_i M_i s(t_j − i h)`` for ``j = j0 … j0 + L − 1`` (``S[offset + j] = s(t_j)``, h = N steps;
-    ``pairs`` of the stack ``M``): ``(L, r, K)`` (:func:`tap_sum_k` at the starts ``offset + j0 − i N``).
+    ``pairs`` of the stack ``M``): ``(L, r, K)`` (:func:`tap_sum_k` at the starts ``offset + j0 − i N``),
+    added to ``into`` (and returned) when given.
 
     >>> S = np.arange(8.0).reshape(4, 2, 1)
     >>> delayed_sum_k(tap_pairs(np.stack([np.eye(2), np.eye(2)])), S, 1, 2, 0, 1)[:, :, 0].tolist()
     [[2.0, 4.0], [6.0, 8.0]]
     """
     starts = offset + j0 - N * np.arange(int(pairs.taps.max(initial=0)) + 1)
+    if into is not None:
+        return tap_sum_k(S, starts, pairs, into, accumulate=True)
     return tap_sum_k(S, starts, pairs, np.empty((L, pairs.r, S.shape[2])))
 
 
@@ -156,7 +161,8 @@ _RANGE = ["u0, u1 = np.uint64(k0), np.uint64(k1)"]
 
 
 def _source(kind: str, r: int) -> str:
-    """Source text of the loop ``kind`` (``"tap"`` or ``"scan"``) for r outputs."""
+    """Source text of the loop ``kind`` (``"tap"``, ``"acc"``: the taps added to the output, or
+    ``"scan"``) for r outputs."""
     def srcs(m: int) -> list[str]:
         return [f"src{i} = S[prow[p + {i}] + l, pcol[p + {i}]]" for i in range(m)]
 
@@ -168,7 +174,12 @@ def _source(kind: str, r: int) -> str:
     for m in range(1, GROUP + 1):  # the first pass stores: the remainder's rows, or a whole group
         tap_body += [f"elif rem == {m % GROUP}:"] + _indent(rows_pass(m, "=") + [f"p = {m}"], 1)
     tap_body += ["while p < P:"] + _indent(rows_pass(GROUP, "+=") + [f"p += {GROUP}"], 1)
-    if kind == "tap":
+    if kind == "acc":  # every pass adds
+        tap_body = ["P = prow.shape[0]", "p = 0", f"rem = P % {GROUP}"]
+        for m in range(1, GROUP):
+            tap_body += [f"{'if' if m == 1 else 'elif'} rem == {m}:"] + _indent(rows_pass(m, "+=") + [f"p = {m}"], 1)
+        tap_body += ["while p < P:"] + _indent(rows_pass(GROUP, "+=") + [f"p += {GROUP}"], 1)
+    if kind in ("tap", "acc"):
         head = "def loop(S, prow, pcol, W, out, k0, k1):"
         body = _RANGE + ["for l in range(out.shape[0]):"] + _indent(["o = out[l]"] + tap_body, 1)
         par = ["def par(S, prow, pcol, W, out, nchunks):",

@@ -425,10 +425,10 @@ class _BatchPlant:
         def taps(name: str, rows: np.ndarray | None, j0: int, L: int, off: int, into: np.ndarray) -> None:
             pairs = P[name]
             if pairs is not None and rows is not None:
-                into += delayed_sum_k(pairs, rows, j0, L, off, N)
+                delayed_sum_k(pairs, rows, j0, L, off, N, into=into)
 
-        fin = np.zeros((nb * N + 1, S.n_x, K))
-        taps("B", WT, 0, nb * N + 1, KinN, fin)
+        fin = (np.zeros((nb * N + 1, S.n_x, K)) if P["B"] is None else
+               delayed_sum_k(P["B"], WT, 0, nb * N + 1, KinN, N))
         taps("E", UT, 0, nb * N + 1, KinN, fin)
         XT = np.empty((KxN + nb * N + 1, S.n_x, K))  # XT[KxN + j − a0] = x(t_j)
         XT[: KxN + 1] = self.Xtail.transpose(0, 2, 1)

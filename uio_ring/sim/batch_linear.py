@@ -135,11 +135,7 @@ class LinearObserverK:
         """``Σ_i M_i s(t_j − i h)`` for ``j = j0 … j0 + L − 1``: ``(L, r, K)`` (``rows[off + j] = s(t_j)``);
         added to ``into`` when given."""
         assert pairs is not None
-        out = delayed_sum_k(pairs, rows, j0, L, off, self.N)
-        if into is None:
-            return out
-        into += out
-        return into
+        return delayed_sum_k(pairs, rows, j0, L, off, self.N, into=into)
 
     def segment(self, jlo: int, Y: np.ndarray, U: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         """``x̂`` (and ``ŵ``) at the samples ``jlo …`` from y, u there (time-major ``(S, K, ·)``):
@@ -156,9 +152,6 @@ class LinearObserverK:
         xh: np.ndarray | None = None
         wh: np.ndarray | None = None
         for c, part in enumerate(self.parts):
-            D = self._taps(part.Dy, Yr, jlo, Sn, Lt - jlo)
-            if Ur is not None:
-                self._taps(part.Du, Ur, jlo, Sn, Lt - jlo, into=D)
             if first:
                 if xi_all is None:  # ξ(0) of all states from D(δ) y at t = 0 of all states
                     D0 = np.empty((Y.shape[1], st.n_z))
@@ -169,23 +162,22 @@ class LinearObserverK:
                 xi_prev = np.ascontiguousarray(xi_all[:, part.idx].T)
             else:
                 xi_prev = self.xiT[c]
-            Z = self._part_segment(c, part, jlo, Yr, Ur, D, xi_prev, first)
-            xp = self._taps(part.X, Z, jlo, Sn, self.pad - jlo)
-            xh = xp if xh is None else np.add(xh, xp, out=xh)
+            Z = self._part_segment(c, part, jlo, Sn, Yr, Ur, xi_prev, first)
+            xh = self._taps(part.X, Z, jlo, Sn, self.pad - jlo, into=xh)
             if part.Wm is not None:
-                wp = self._taps(part.Wm, Z, jlo, Sn, self.pad - jlo)
-                wh = wp if wh is None else np.add(wh, wp, out=wh)
+                wh = self._taps(part.Wm, Z, jlo, Sn, self.pad - jlo, into=wh)
         assert xh is not None
         self.YtailT = Yr[Yr.shape[0] - Lt :].copy()
         if Ur is not None:
             self.UtailT = Ur[Ur.shape[0] - Lt :].copy()
         return xh.transpose(0, 2, 1), None if wh is None else wh.transpose(0, 2, 1)
 
-    def _part_segment(self, c: int, part: _Part, jlo: int, Yr: np.ndarray, Ur: np.ndarray | None, D: np.ndarray,
+    def _part_segment(self, c: int, part: _Part, jlo: int, Sn: int, Yr: np.ndarray, Ur: np.ndarray | None,
                       xi_prev: np.ndarray, first: bool) -> np.ndarray:
-        """ẑ of one part on the segment after its tail ``(pad + S, r, K)``; keeps its ξ and tail."""
+        """ẑ of one part on the S = ``Sn`` samples of the segment after its tail ``(pad + S, r, K)``;
+        keeps its ξ and tail."""
         st, N, pad, off = self.st, self.N, self.pad, self.Lt - jlo
-        Sn, K, r = D.shape[0], D.shape[2], part.idx.size
+        K, r = Yr.shape[2], part.idx.size
         G = self._taps(part.Gy, Yr, jlo - 3, Sn + 3, off)  # G[j − jlo + 3] = g(t_j)
         if Ur is not None:
             self._taps(part.Gu, Ur, jlo - 3, Sn + 3, off, into=G)
@@ -193,23 +185,26 @@ class LinearObserverK:
         M = jlo + Sn - 1 - s0
         g0 = s0 - (jlo - 3)  # G row of g(t_{s0})
         nodes = np.array([g0 - 2, g0 - 1, g0, g0 + 1])
-        Xi = np.empty((M, r, K))
+        Z = np.empty((pad + Sn, r, K))  # ξ, then ẑ = ξ + D(δ) y, after the tail of ẑ
+        Xi = Z[pad + Sn - M :]  # the steps' states (the first segment: ξ(0) before them)
+        if first:
+            Z[pad] = xi_prev
         if M and s0 >= st.guard_blocks * N:  # past the start's stencils: forcing and steps in one pass
             stencil_scan_k(G, nodes, part.W, part.PhiT, xi_prev, Xi)
         elif M:
             F = tap_sum_k(G, nodes, part.W, np.empty((M, r, K)))
             self._guarded(part, F, G, s0, g0)
             stencil_scan_k(F, np.zeros(1, dtype=np.int64), part.eye, part.PhiT, xi_prev, Xi)
-        if first:
-            Xi = np.concatenate([xi_prev[None], Xi], axis=0)
-        Z = np.empty((pad + Xi.shape[0], r, K))  # ẑ = ξ + D(δ) y after its tail
-        np.add(Xi, D, out=Z[pad:])
+        xi_last = Z[-1].copy()
+        self._taps(part.Dy, Yr, jlo, Sn, off, into=Z[pad:])
+        if Ur is not None:
+            self._taps(part.Du, Ur, jlo, Sn, off, into=Z[pad:])
         Z[:pad] = Z[pad] if first else self.ZtailT[c]  # held at ẑ(0) before 0
         if first:
-            self.xiT.append(Xi[-1].copy())
+            self.xiT.append(xi_last)
             self.ZtailT.append(Z[Z.shape[0] - pad :].copy())
         else:
-            self.xiT[c] = Xi[-1].copy()
+            self.xiT[c] = xi_last
             self.ZtailT[c] = Z[Z.shape[0] - pad :].copy()
         return Z
 
