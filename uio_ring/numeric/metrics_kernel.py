@@ -35,9 +35,10 @@ def update_metrics(X: np.ndarray, Xh: np.ndarray, jlo: int, dt: float, tol: floa
                    peak: np.ndarray, t_peak: np.ndarray, final: np.ndarray, t_diverge: np.ndarray,
                    max_set: np.ndarray, sq_set: np.ndarray) -> None:
     """Update the statistics (arrays of K, in place; see :class:`uio_ring.sim.batch._Metrics`) with
-    the samples ``j = jlo …`` of ``X`` and ``Xh`` (time-major ``(S, K, n)``, any strides)."""
+    the samples ``j = jlo …`` of ``X`` and ``Xh`` (time-major ``(S, K, n)``, any strides; fastest as
+    views of scenario-innermost arrays ``(S, n, K)``)."""
     if X.shape[0] and X.shape[1]:
-        _compiled()(X, Xh, jlo, dt, tol, diverge, j_settle, last_bad, max_after, sumsq, count, peak, t_peak,
+        _compiled()(X.transpose(0, 2, 1), Xh.transpose(0, 2, 1), jlo, dt, tol, diverge, j_settle, last_bad, max_after, sumsq, count, peak, t_peak,
                     final, t_diverge, max_set, sq_set)
 
 
@@ -51,39 +52,42 @@ def _compiled() -> Any:
 
 def _loop(X, Xh, jlo, dt, tol, diverge, j_settle, last_bad, max_after, sumsq, count, peak, t_peak, final,
           t_diverge, max_set, sq_set):  # pragma: no cover - compiled
-    S, K, n = X.shape
+    S, n, K = X.shape  # scenario-innermost: the error of a sample in passes over the K scenarios
     inf = np.inf
+    e = np.zeros(K)
     for s in range(S):
         j = jlo + s
         t = j * dt
         settled = j >= j_settle
+        e[:] = 0.0
+        for i in range(n):
+            for k in range(K):
+                d = abs(X[s, i, k] - Xh[s, i, k])
+                ek = e[k]
+                # the maximum, NaN propagating as in np.maximum
+                e[k] = d if (i == 0 or d > ek or d != d) and (i == 0 or ek == ek) else ek
         for k in range(K):
-            e = 0.0
-            for i in range(n):
-                d = abs(X[s, k, i] - Xh[s, k, i])
-                if i == 0 or d > e or d != d:  # NaN propagates, as in np.maximum
-                    if e == e or i == 0:
-                        e = d
-            finite = abs(e) < inf
-            if not finite or e > tol:
+            ek = e[k]
+            finite = abs(ek) < inf
+            if not finite or ek > tol:
                 last_bad[k] = j
                 max_after[k] = 0.0
                 sumsq[k] = 0.0
                 count[k] = 0
             else:
-                if e > max_after[k]:
-                    max_after[k] = e
-                sumsq[k] += e * e
+                if ek > max_after[k]:
+                    max_after[k] = ek
+                sumsq[k] += ek * ek
                 count[k] += 1
-            ep = e if finite else inf
+            ep = ek if finite else inf
             if ep > peak[k]:
                 peak[k] = ep
                 t_peak[k] = t
-            if (not finite or e > diverge) and t_diverge[k] != t_diverge[k]:
+            if (not finite or ek > diverge) and t_diverge[k] != t_diverge[k]:
                 t_diverge[k] = t
             if settled:
                 if ep > max_set[k]:
                     max_set[k] = ep
-                sq_set[k] += e * e
+                sq_set[k] += ek * ek
             if s == S - 1:
-                final[k] = e
+                final[k] = ek
