@@ -363,22 +363,28 @@ class _BatchPlant:
                         self.end_fix[k, i - 1] -= Mk[i] @ jump
 
     def _inputs(self, which: str, n: int, j_min: int, j_max: int) -> np.ndarray:
-        """Samples at ``j_min … j_max``, time-major ``(rows, K, n)``; sampled in windows of at
-        least ~2²¹ values (one call of each scenario's signal per window, not per segment)."""
+        """Samples at ``j_min … j_max``, time-major ``(rows, K, n)`` (a view of scenario-innermost
+        ``(rows, n, K)`` samples for the compiled segments: :meth:`_inputs_k`); sampled in windows of
+        at least ~2²¹ values (one call of each scenario's signal per window, not per segment)."""
         cache = self._cache.get(which)
         if cache is None or j_min < cache[0] or j_max > cache[1]:
             K = len(self.scen)
             # (not past the last block: a short run samples its horizon only)
             hi = max(j_max, min(j_min + INPUT_WINDOW // max(K * n, 1), self.n_steps + self.N))
-            arr = np.empty((hi - j_min + 1, K, n))
+            arr = np.empty((hi - j_min + 1, n, K)) if self.pairs is not None else np.empty((hi - j_min + 1, K, n))
+            view = arr.transpose(0, 2, 1) if self.pairs is not None else arr
             t = np.arange(j_min, hi + 1) * self.dt  # (as input_samples: one time grid for every callable)
             for k, sc in enumerate(self.scen):
                 sig = getattr(sc, which)
-                arr[:, k] = (sample_signal(sig, t, n, which) if callable(sig) and n else
-                             input_samples(sig, n, j_min=j_min, j_max=hi, n_steps=self.n_steps, dt=self.dt,
-                                           name=which)).T
-            cache = self._cache[which] = (j_min, hi, arr)
+                view[:, k] = (sample_signal(sig, t, n, which) if callable(sig) and n else
+                              input_samples(sig, n, j_min=j_min, j_max=hi, n_steps=self.n_steps, dt=self.dt,
+                                            name=which)).T
+            cache = self._cache[which] = (j_min, hi, view)
         return cache[2][j_min - cache[0] : j_max - cache[0] + 1]
+
+    def _inputs_k(self, which: str, n: int, j_min: int, j_max: int) -> np.ndarray:
+        """:meth:`_inputs` scenario-innermost ``(rows, n, K)``, contiguous (no copy)."""
+        return self._inputs(which, n, j_min, j_max).transpose(0, 2, 1)
 
     def _noise(self, n_y: int, j0: int, j1: int) -> np.ndarray | None:
         if all(nz is None for nz in self.noise):
@@ -410,17 +416,15 @@ class _BatchPlant:
         """:meth:`segment` scenario-innermost (``(rows, ·, K)`` arrays, compiled loops); x and y are
         handed out as time-major views."""
         from uio_ring.numeric.scenario_kernel import delayed_sum_k
-        from uio_ring.sim.batch_linear import rows_k
         from uio_ring.sim.batch_plant_k import run_blocks_k
 
         S, N, b0, P = self.S, self.N, self.b0, self.pairs
         assert P is not None
         K, a0 = len(self.scen), b0 * N
         KxN, KinN = self.Kx * N, self.Kin * N
-        W = self._inputs("w", S.n_w, a0 - KinN, a0 + nb * N)
-        U = self._inputs("u", S.n_u, a0 - KinN, a0 + nb * N)
-        WT = rows_k(np.zeros((0, S.n_w, K)), W)
-        UT = rows_k(np.zeros((0, S.n_u, K)), U) if P["E"] is not None or P["F"] is not None else None
+        WT = self._inputs_k("w", S.n_w, a0 - KinN, a0 + nb * N)
+        UT = self._inputs_k("u", S.n_u, a0 - KinN, a0 + nb * N)
+        W, U = WT.transpose(0, 2, 1), UT.transpose(0, 2, 1)
 
         def taps(name: str, rows: np.ndarray | None, j0: int, L: int, off: int, into: np.ndarray) -> None:
             pairs = P[name]
