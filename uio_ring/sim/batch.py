@@ -336,9 +336,9 @@ class _BatchPlant:
         #: time-major block integration (:meth:`~uio_ring.sim._blocks.BlockIntegrator.run_rows`): one
         #: plant and blocks of more than SUPER_MAX_N steps (else the grouped block maps of ``run``)
         self.rows = not isinstance(self.integ, StackedBlockIntegrator) and self.integ.method != "super"
-        #: numba and the time-major steps: the segments scenario-innermost (:mod:`uio_ring.sim.batch_plant_k`)
+        #: numba and one plant: the segments scenario-innermost, step by step (:mod:`uio_ring.sim.batch_plant_k`)
         self.pairs = None
-        if self.rows and kernel == "numba":
+        if not isinstance(self.integ, StackedBlockIntegrator) and kernel == "numba":
             from uio_ring.numeric.scenario_kernel import tap_pairs
             from uio_ring.sim.batch_linear import row_form
 
