@@ -220,3 +220,19 @@ def test_generated_loops_are_written_once_per_source(tmp_path, monkeypatch):
     c = sk._module_path(sk._source("scan", 3), "scan_r3")
     assert c != a and "def loop(S, prow, pcol, W, PhiT, x0, out, k0, k1):" in c.read_text()
     compile(c.read_text(), str(c), "exec")  # valid Python
+
+
+@needs_numba
+def test_generated_loops_without_a_writable_directory(tmp_path, monkeypatch):
+    """No directory for the loops' source: compiled in the process (no disk cache), the same sums."""
+    import uio_ring.numeric.scenario_kernel as sk
+
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    monkeypatch.setenv(sk.KERNEL_DIR_ENV, str(blocker / "k"))  # below a file: mkdir fails
+    monkeypatch.setattr(sk, "_compiled", sk._compiled.__wrapped__)  # not the process's compiled loops
+    M = np.arange(12.0).reshape(2, 2, 3)
+    S = np.random.default_rng(0).normal(size=(6, 2, 5))
+    out = sk.tap_sum_k(S, np.array([1, 0]), sk.tap_pairs(M), np.empty((4, 3, 5)))
+    assert np.allclose(out, _reference_taps(S, np.array([1, 0]), M, 4), rtol=1e-13, atol=1e-13)
+    assert not (blocker / "k").exists()

@@ -210,8 +210,15 @@ def _compiled(kind: str, r: int) -> tuple[Any, Any]:
     from uio_ring.errors import require
 
     require("numba", extra="fast")
-    path = _module_path(_source(kind, r), f"{kind}_r{r}")
-    spec = importlib.util.spec_from_file_location(f"_uio_ring_scenario_{kind}_r{r}", path)
+    source = _source(kind, r)
+    name = f"_uio_ring_scenario_{kind}_r{r}"
+    try:
+        path = _module_path(source, f"{kind}_r{r}")
+    except OSError:  # no writable directory: compiled in this process only (numba cannot cache them)
+        ns: dict[str, Any] = {"__name__": name}
+        exec(compile(source.replace(", cache=True)", ")"), f"<{name}>", "exec"), ns)  # noqa: S102
+        return ns["loop"], ns["par"]
+    spec = importlib.util.spec_from_file_location(name, path)
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod  # importable by name: numba's cache reloads the loops' module by it
