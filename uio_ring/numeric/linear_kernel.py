@@ -9,7 +9,9 @@ step over memory; here each is one compiled pass:
 * :func:`tap_sum`: ``out[l] = Σ_i S[starts[i] + l] @ M[i]`` (every output row written once);
 * :func:`scan_rows`: ``x_{j+1} = x_j Φᵀ + g_j`` in place.
 
-(A linear observer's segment runs scenario-innermost instead: :mod:`uio_ring.numeric.scenario_kernel`.)
+(One plant's segments and a linear observer's with the cubic forcing run scenario-innermost
+instead: :mod:`uio_ring.numeric.scenario_kernel`; these loops serve the forcing of observers
+with an injection term and the recursion of linear observers without the cubic forcing.)
 
 The scenarios are the innermost loop (independent sums, which pipeline and vectorise);
 zero coefficients are skipped (so a 0 · ∞ of a diverged run is not a NaN here).

@@ -940,9 +940,11 @@ def simulate_batch(
     kernel : str, optional
         Backend of the observer's step loop (injection terms), as in :func:`simulate_observer`:
         with numba, one compiled loop over the K scenarios and their steps; numba also runs the
-        linear loops of an open loop (the plant's time-major steps and quadrature, the delayed
-        taps, a linear observer's recursion: :mod:`uio_ring.numeric.linear_kernel`), which
-        agree with numpy's up to rounding.
+        linear loops of an open loop with the scenarios innermost (one plant's steps, forcing and
+        outputs: :mod:`uio_ring.sim.batch_plant_k`; a linear observer with the cubic forcing:
+        :mod:`uio_ring.sim.batch_linear`; other observers' taps: :mod:`uio_ring.numeric.linear_kernel`)
+        and the error metrics in one pass (:mod:`uio_ring.numeric.metrics_kernel`), which agree
+        with numpy's up to rounding.
     exact_start : bool
         As in :func:`simulate_observer`: every plant starts earlier (whole blocks of h; w and u
         callables or None, shifted), and the observer gets the true past of y and u and its
