@@ -336,9 +336,11 @@ class _BatchPlant:
         #: time-major block integration (:meth:`~uio_ring.sim._blocks.BlockIntegrator.run_rows`): one
         #: plant and blocks of more than SUPER_MAX_N steps (else the grouped block maps of ``run``)
         self.rows = not isinstance(self.integ, StackedBlockIntegrator) and self.integ.method != "super"
-        #: numba and one plant: the segments scenario-innermost, step by step (:mod:`uio_ring.sim.batch_plant_k`)
+        #: numba and the time-major steps: the segments scenario-innermost (:mod:`uio_ring.sim.batch_plant_k`;
+        #: not the grouped block maps of N ≤ 16, whose rounding simulate_observer shares: a sliding-mode
+        #: observer amplifies the last-bit differences of a step-by-step plant)
         self.pairs = None
-        if not isinstance(self.integ, StackedBlockIntegrator) and kernel == "numba":
+        if self.rows and kernel == "numba":
             from uio_ring.numeric.scenario_kernel import tap_pairs
             from uio_ring.sim.batch_linear import row_form
 
@@ -518,9 +520,10 @@ class _BatchObserver:
         self.Utail = self.Ztail = self.xi = np.zeros(0)
         self.started = False
         self.z0: np.ndarray | None = None
-        #: numba, a linear observer with the cubic forcing: every segment scenario-innermost, compiled
+        #: numba, a linear observer with the cubic forcing, K ≥ 8 (fewer: the chunked LinearScan of
+        #: simulate_observer, whose rounding it shares): every segment scenario-innermost, compiled
         self.lin_k = None
-        if kernel == "numba" and st.inj is None and st.cubic:
+        if kernel == "numba" and st.inj is None and st.cubic and len(scenarios) >= 8:
             from uio_ring.sim.batch_linear import LinearObserverK
 
             self.lin_k = LinearObserverK(st, u_history, self.pad, self._xi_from)

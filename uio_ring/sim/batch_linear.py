@@ -1,7 +1,7 @@
 """A linear observer's segments of a batch, scenario-innermost (compiled loops).
 
 :class:`~uio_ring.sim.batch._BatchObserver` with ``kernel="numba"``, a linear observer
-(no injection term) and the cubic forcing runs its segments here: the same recursion
+(no injection term), the cubic forcing and K ≥ 8 scenarios runs its segments here: the same recursion
 (``ObserverStepper.trajectories``: ``g = G(δ) y``, the cubic stencil of g, the steps
 ``ξ_{j+1} = Φ ξ_j + f_j``, ``ẑ = ξ + D(δ) y``, ``x̂ = X(δ) ẑ``, ``ŵ = W(δ) ẑ``) with every
 array laid out ``(rows, columns, K)``: y is transposed once per segment, every tap sum and
@@ -20,7 +20,7 @@ samples (P_·: nonzero coefficient rows of the tap stacks); memory: a few
 >>> from uio_ring.sim.batch import Scenario, simulate_batch
 >>> sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)
 >>> des = design_zheng_bejarano(sys, poles=[-10])
->>> runs = [Scenario(x0=[1.0, 0.0]), Scenario(x0=[0.0, 2.0])]
+>>> runs = [Scenario(x0=[1.0, k / 8]) for k in range(8)]         # (K ≥ 8: fewer run as simulate_observer)
 >>> a, b = (simulate_batch(des, runs, t_final=0.5, dt=1e-3, kernel=k, trajectories=True) for k in ("python", "auto"))
 >>> bool(np.allclose(a.x_hat, b.x_hat, rtol=0, atol=1e-12))   # "auto": this path when numba is installed
 True

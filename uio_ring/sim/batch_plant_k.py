@@ -1,9 +1,9 @@
 """The plant of a batch scenario-innermost: block integration and outputs in compiled loops.
 
-:class:`~uio_ring.sim.batch._BatchPlant` with ``kernel="numba"`` and one plant (not a stack of
-perturbed plants) runs its segments here, step by step as
-:meth:`~uio_ring.sim._blocks.BlockIntegrator.run_rows` (O(n²) per step and scenario, whatever
-the block map its numpy path uses), every array laid out ``(rows, columns, K)``:
+:class:`~uio_ring.sim.batch._BatchPlant` with ``kernel="numba"`` and one plant whose blocks
+run step by step (:meth:`~uio_ring.sim._blocks.BlockIntegrator.run_rows`: N > 16 steps per
+block; smaller blocks keep their grouped block maps) runs its segments here, every array
+laid out ``(rows, columns, K)``:
 
 * the input forcing ``B(δ) w + E(δ) u`` on the segment's points (one tap pass per stack);
 * per block: the delayed forcing ``Σ_{i≥1} A_i x(t − i h)`` on the block's N + 1 points added
