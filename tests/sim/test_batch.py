@@ -264,6 +264,7 @@ def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, dt, monkeyp
     loops = lk._compiled()
     monkeypatch.setattr(lk, "_compiled", lambda: loops[:2] + tuple(
         (lambda *a, f=f, i=i: blocks.append((i, a[-1])) or f(*a)) for i, f in enumerate(loops[2:])))
+    monkeypatch.setattr(sk, "PARALLEL_MIN", 0)  # every call on the threads, however small
     compiled_k = sk._compiled
 
     def counted(kind, r):  # the serial loop, and the parallel one recording its blocks

@@ -87,10 +87,12 @@ def test_scenario_loops_do_not_depend_on_the_thread_count(monkeypatch):
     import numba
 
     import uio_ring.numeric.linear_kernel as lk
+    import uio_ring.numeric.scenario_kernel as sk
     from uio_ring.numeric.scenario_kernel import stencil_scan_k, tap_pairs, tap_sum_k
 
     if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
         pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
+    monkeypatch.setattr(sk, "PARALLEL_MIN", 0)
     rng = np.random.default_rng(1)
     K, n = 45, 6
     W, S, x0 = _stack(rng, 4, n, n, 0.9), rng.normal(size=(40, n, K)), rng.normal(size=(n, K))

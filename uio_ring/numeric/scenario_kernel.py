@@ -18,8 +18,8 @@ taps).  The r outputs are held in r row views, so the loop body is generated for
 
 Complexity: ``O(L · P · r · K)`` for P nonzero coefficient rows (plus ``O(L n² K)`` for the
 recursion); memory: the output only.  With ``UIO_RING_THREADS=2``
-(:func:`uio_ring.numeric.linear_kernel.chunks`) the scenarios are cut into contiguous
-ranges, one per thread; each scenario is computed by the same operations in any range, so
+(:func:`uio_ring.numeric.linear_kernel.chunks`) the scenarios of a call with at least
+:data:`PARALLEL_MIN` output values are cut into contiguous ranges, one per thread; each scenario is computed by the same operations in any range, so
 the numbers do not depend on the number of threads.  Without fastmath (no contraction,
 no reassociation) every value is the one of the plain loops, whatever the vectorisation.
 
@@ -131,7 +131,7 @@ def _run(kind: str, r: int, *args: np.ndarray) -> None:
     if K == 0 or out.shape[0] == 0:
         return
     serial, parallel = _compiled(kind, r)
-    nc = chunks(K)
+    nc = chunks(K) if out.size >= PARALLEL_MIN else 1
     if nc == 1:
         serial(*args, 0, K)
     else:
@@ -151,6 +151,10 @@ def _pair_pass(r: int, srcs: list[str], weights: list[str], op: str) -> list[str
 def _indent(lines: list[str], n: int) -> list[str]:
     return [" " * (4 * n) + s for s in lines]
 
+
+#: Fewest output values of a call run on several threads (a smaller one runs on one: the threads'
+#: hand-over costs 10–30 µs on idle cores, and up to a scheduler tick, 4 ms, on busy ones).
+PARALLEL_MIN = 1 << 16
 
 #: Coefficient rows applied per pass over the outputs (their loads and stores shared).
 GROUP = 4
