@@ -217,16 +217,19 @@ def test_compiled_linear_loops_equal_numpy(zb, dt, perturb, monkeypatch):
                    plant=perturbed_plant(base, 0.05, k) if perturb and k else None) for k in range(9)]
     kw = dict(t_final=0.08, dt=dt, trajectories=True, segment_steps=230)
     import uio_ring.numeric.linear_kernel as lk
+    import uio_ring.numeric.scenario_kernel as sk
 
     calls = []
-    for name in ("tap_sum", "scan_rows", "stencil_scan"):  # count the compiled loops' calls (numba path)
-        f = getattr(lk, name)
-        monkeypatch.setattr(lk, name, lambda *a, f=f, name=name: calls.append(name) or f(*a))
+    for mod, name in ((lk, "tap_sum"), (lk, "scan_rows"), (sk, "_run")):  # count the compiled loops' calls
+        f = getattr(mod, name)
+        monkeypatch.setattr(mod, name, lambda *a, f=f, name=name: calls.append(a[0] if name == "_run" else name) or f(*a))
     ref = simulate_batch(zb, sc, kernel="python", **kw)
     assert not calls
     res = simulate_batch(zb, sc, kernel="numba", **kw)
-    # the observer's forcing and steps in one pass once its start's stencils are behind (t ≥ 6 h)
-    assert set(calls) == {"tap_sum", "scan_rows"} | ({"stencil_scan"} if dt == 1e-4 else set())
+    # plant (N = h/dt > 16: its steps) and observer scenario-innermost: taps (set or added), the stencil
+    # forcing with the steps in one pass; N = 10: the plant's grouped block maps and its taps time-major
+    # (tap_sum); perturbed plants: stacked block maps, in numpy
+    assert set(calls) == {"tap", "acc", "scan"} | ({"tap_sum"} if dt == 1e-3 and not perturb else set())
     for name in ("x", "y", "x_hat"):
         a, b = getattr(res, name), getattr(ref, name)
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b)), name
@@ -234,21 +237,24 @@ def test_compiled_linear_loops_equal_numpy(zb, dt, perturb, monkeypatch):
 
 
 @needs_numba
-def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, monkeypatch):
+@pytest.mark.parametrize("dt", [2.5e-4, 1e-3])
+def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, dt, monkeypatch):
     """UIO_RING_THREADS=2 cuts the K = 37 scenarios into two blocks (19 + 18) run by numba's threads
-    (taps, plant and observer recursions, the observer's fused stencil and steps):
+    (taps, plant and observer recursions: the fused stencils and steps; N = 10: the plant's taps
+    time-major):
     x, y, x̂ and every metric are bit-identical to one thread (each scenario is computed by the
     same operations in any block), and equal to the numpy path to 1e-12."""
     import numba
 
     import uio_ring.numeric.linear_kernel as lk
+    import uio_ring.numeric.scenario_kernel as sk
 
     if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
         pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
     rng = np.random.default_rng(5)
     sc = [Scenario(x0=rng.normal(size=4), w=_w(rng.uniform(1, 10), 40.0), noise=0.01 if k % 5 == 1 else None,
                    seed=k) for k in range(37)]
-    kw = dict(t_final=0.08, dt=2.5e-4, trajectories=True, segment_steps=120)  # fused steps from t = 6 h on
+    kw = dict(t_final=0.08, dt=dt, trajectories=True, segment_steps=120)  # fused steps from t = 6 h on
     monkeypatch.setenv(lk.THREADS_ENV, "1")
     assert lk.chunks(37) == 1
     one = simulate_batch(zb, sc, kernel="numba", **kw)
@@ -256,16 +262,55 @@ def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, monkeypatch
     assert lk.chunks(37) == 2
     blocks = []
     loops = lk._compiled()
-    monkeypatch.setattr(lk, "_compiled", lambda: loops[:3] + tuple(
-        (lambda *a, f=f, i=i: blocks.append((i, a[-1])) or f(*a)) for i, f in enumerate(loops[3:])))
+    monkeypatch.setattr(lk, "_compiled", lambda: loops[:2] + tuple(
+        (lambda *a, f=f, i=i: blocks.append((i, a[-1])) or f(*a)) for i, f in enumerate(loops[2:])))
+    monkeypatch.setattr(sk, "PARALLEL_MIN", 0)  # every call on the threads, however small
+    compiled_k = sk._compiled
+
+    def counted(kind, r):  # the serial loop, and the parallel one recording its blocks
+        serial, par = compiled_k(kind, r)
+        return serial, lambda *a: blocks.append((kind, a[-1])) or par(*a)
+
+    monkeypatch.setattr(sk, "_compiled", counted)
     two = simulate_batch(zb, sc, kernel="numba", **kw)
-    assert set(blocks) == {(0, 2), (1, 2), (2, 2)}  # taps, scans and fused steps, each in two blocks
+    # the taps and the fused steps, each in two blocks
+    assert set(blocks) == {("tap", 2), ("acc", 2), ("scan", 2)} | ({(0, 2)} if dt == 1e-3 else set())
     for name in ("x", "y", "x_hat"):
         assert np.array_equal(getattr(one, name), getattr(two, name)), name
     for name in METRICS:
         assert np.array_equal(one.metrics[name], two.metrics[name], equal_nan=True), name
     ref = simulate_batch(zb, sc, kernel="python", **kw)
     assert np.max(np.abs(two.x_hat - ref.x_hat)) <= 1e-12 * np.max(np.abs(ref.x_hat))
+
+
+@needs_numba
+def test_time_major_loops_do_not_depend_on_the_thread_count(monkeypatch):
+    """The time-major compiled loops (linear_kernel.tap_sum, scan_rows: the forcing of observers with an
+    injection term, linear observers without the cubic forcing) on two blocks of scenarios:
+    bit-identical to one block, and equal to numpy (uio_ring.sim._blocks) to 1e-12."""
+    import numba
+
+    import uio_ring.numeric.linear_kernel as lk
+    from uio_ring.sim._blocks import scan_rows, taps
+
+    if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
+        pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
+    rng = np.random.default_rng(8)
+    K, L = 37, 40
+    S, M = rng.normal(size=(L + 20, K, 3)), rng.normal(size=(3, 3, 5))
+    PhiT, x0, G = 0.3 * rng.normal(size=(5, 5)), rng.normal(size=(K, 5)), rng.normal(size=(L, K, 5))
+    starts = np.array([20, 10, 0])
+    runs = []
+    for threads in ("1", "2"):
+        monkeypatch.setenv(lk.THREADS_ENV, threads)
+        assert lk.chunks(K) == int(threads)
+        runs.append((lk.tap_sum(S, starts, M, np.empty((L, K, 5))), lk.scan_rows(PhiT, x0, G.copy())))
+    for a, b in zip(*runs, strict=True):
+        assert np.array_equal(a, b)
+    ref_t = taps([S[s : s + L] for s in starts], list(M)).reshape(L, K, 5)
+    ref_s = scan_rows(PhiT, x0, G.copy())
+    assert np.max(np.abs(runs[1][0] - ref_t)) <= 1e-12 * np.max(np.abs(ref_t))
+    assert np.max(np.abs(runs[1][1] - ref_s)) <= 1e-12 * np.max(np.abs(ref_s))
 
 
 @needs_numba

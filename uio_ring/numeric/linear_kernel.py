@@ -7,9 +7,11 @@ taps, the stencils of the quadratures) and in the recursions ``x_{j+1} = Φ x_j 
 step over memory; here each is one compiled pass:
 
 * :func:`tap_sum`: ``out[l] = Σ_i S[starts[i] + l] @ M[i]`` (every output row written once);
-* :func:`scan_rows`: ``x_{j+1} = x_j Φᵀ + g_j`` in place;
-* :func:`stencil_scan`: the two fused, ``x_{j+1} = x_j Φᵀ + Σ_i S[starts[i] + j] @ M[i]`` (a linear
-  observer's stencil forcing and recursion in one pass: the forcing is never stored).
+* :func:`scan_rows`: ``x_{j+1} = x_j Φᵀ + g_j`` in place.
+
+(One plant's segments and a linear observer's with the cubic forcing run scenario-innermost
+instead: :mod:`uio_ring.numeric.scenario_kernel`; these loops serve the forcing of observers
+with an injection term and the recursion of linear observers without the cubic forcing.)
 
 The scenarios are the innermost loop (independent sums, which pipeline and vectorise);
 zero coefficients are skipped (so a 0 · ∞ of a diverged run is not a NaN here).
@@ -38,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["tap_sum", "scan_rows", "stencil_scan", "threads", "THREADS_ENV"]
+__all__ = ["tap_sum", "scan_rows", "threads", "THREADS_ENV"]
 
 #: Fewest scenarios per thread (below, the threads' hand-over costs more than the work).
 MIN_CHUNK = 16
@@ -63,20 +65,6 @@ def scan_rows(PhiT: np.ndarray, x0: np.ndarray, G: np.ndarray) -> np.ndarray:
     if G.shape[0]:
         _run(1, np.ascontiguousarray(PhiT), np.ascontiguousarray(x0), G)
     return G
-
-
-def stencil_scan(S: np.ndarray, starts: np.ndarray, M: np.ndarray, PhiT: np.ndarray, x0: np.ndarray,
-                 out: np.ndarray) -> np.ndarray:
-    """:func:`scan_rows` of the forcing :func:`tap_sum` ``(S, starts, M)``, in one pass: ``out``
-    ``(L, K, n)`` becomes ``x_1 … x_L`` (the same operations in the same order as the two calls,
-    so the same numbers).
-
-    >>> S = np.ones((4, 1, 1)); out = np.empty((3, 1, 1))
-    >>> stencil_scan(S, np.array([0, 1]), np.full((2, 1, 1), 0.5), np.array([[0.5]]), np.array([[1.0]]), out)[:, 0, 0].tolist()
-    [1.5, 1.75, 1.875]
-    """
-    _run(2, S, np.asarray(starts, dtype=np.int64), M, np.ascontiguousarray(PhiT), np.ascontiguousarray(x0), out)
-    return out
 
 
 def threads() -> int:
@@ -117,7 +105,7 @@ def chunks(K: int) -> int:
 
 
 def _run(which: int, *args: np.ndarray) -> None:
-    """Loop ``which`` (0: taps, 1: scan, 2: stencil + scan) over the K scenarios (axis 1 of the
+    """Loop ``which`` (0: taps, 1: scan) over the K scenarios (axis 1 of the
     last array): one call, or one call per block of scenarios on numba's threads (:func:`chunks`)."""
     loops = _compiled()
     K = args[-1].shape[1]
@@ -125,20 +113,20 @@ def _run(which: int, *args: np.ndarray) -> None:
     if nc == 1:
         loops[which](*args)
     else:
-        loops[3 + which](*args, nc)
+        loops[2 + which](*args, nc)
 
 
 @functools.cache
 def _compiled() -> tuple[Any, ...]:
-    """The three loops, then the three loops over blocks of scenarios in parallel."""
+    """The two loops, then the two loops over blocks of scenarios in parallel."""
     from uio_ring.errors import require
 
     numba = require("numba", extra="fast")
     globals()["prange"] = numba.prange  # the blocks of scenarios in parallel (in Python: range)
     jit = numba.njit(cache=True, nogil=True)
-    tap, scan, fused = jit(_tap_loop), jit(_scan_loop), jit(_stencil_scan_loop)
+    tap, scan = jit(_tap_loop), jit(_scan_loop)
     par = numba.njit(nogil=True, parallel=True)  # closures over the loops: compiled once per process
-    return tap, scan, fused, par(_tap_blocks(tap)), par(_scan_blocks(scan)), par(_fused_blocks(fused))
+    return tap, scan, par(_tap_blocks(tap)), par(_scan_blocks(scan))
 
 
 prange = range
@@ -191,50 +179,6 @@ def _scan_loop(PhiT, x0, G):  # pragma: no cover
             for k in range(K):
                 x[j, k] = acc[j, k]
                 G[s, k, j] = acc[j, k]
-
-
-def _stencil_scan_loop(S, starts, M, PhiT, x0, out):  # pragma: no cover
-    L, K, n = out.shape
-    m, c = M.shape[0], M.shape[1]
-    x, acc, col = np.empty((n, K)), np.empty((n, K)), np.empty(K)  # scenarios contiguous
-    for k in range(K):
-        for q in range(n):
-            x[q, k] = x0[k, q]
-    for s in range(L):
-        acc[:, :] = 0.0  # the forcing, as _tap_loop
-        for i in range(m):
-            row = starts[i] + s
-            for q in range(c):
-                for k in range(K):
-                    col[k] = S[row, k, q]
-                for j in range(n):
-                    w = M[i, q, j]
-                    if w != 0.0:
-                        for k in range(K):
-                            acc[j, k] += w * col[k]
-        for q in range(n):  # the step, as _scan_loop
-            for j in range(n):
-                w = PhiT[q, j]
-                if w != 0.0:
-                    for k in range(K):
-                        acc[j, k] += x[q, k] * w
-        for j in range(n):
-            for k in range(K):
-                x[j, k] = acc[j, k]
-                out[s, k, j] = acc[j, k]
-
-
-def _fused_blocks(fused):  # pragma: no cover
-    """:func:`_stencil_scan_loop` over ``nchunks`` contiguous blocks of the K scenarios, in parallel."""
-
-    def run(S, starts, M, PhiT, x0, out, nchunks):
-        K = out.shape[1]
-        size = (K + nchunks - 1) // nchunks
-        for ch in prange(nchunks):
-            k0, k1 = ch * size, min(K, ch * size + size)
-            fused(S[:, k0:k1], starts, M, PhiT, x0[k0:k1], out[:, k0:k1])
-
-    return run
 
 
 def _tap_blocks(tap):  # pragma: no cover

@@ -46,7 +46,7 @@ from uio_ring.errors import DimensionError, SimulationError
 from uio_ring.numeric.backend import resolve_kernel
 from uio_ring.numeric.expint import LinearScan
 from uio_ring.numeric.grid import as_float, step_count, steps_per_delay
-from uio_ring.numeric.history import sample_history
+from uio_ring.numeric.history import sample_history, sample_signal
 from uio_ring.numeric.progress import Progress, want_progress
 from uio_ring.numeric.threads import blas_single_thread
 from uio_ring.sim._blocks import StackedBlockIntegrator, block_integrator, scan_rows, tap_rows
@@ -336,6 +336,16 @@ class _BatchPlant:
         #: time-major block integration (:meth:`~uio_ring.sim._blocks.BlockIntegrator.run_rows`): one
         #: plant and blocks of more than SUPER_MAX_N steps (else the grouped block maps of ``run``)
         self.rows = not isinstance(self.integ, StackedBlockIntegrator) and self.integ.method != "super"
+        #: numba and the time-major steps: the segments scenario-innermost (:mod:`uio_ring.sim.batch_plant_k`;
+        #: not the grouped block maps of N ≤ 16, whose rounding simulate_observer shares: a sliding-mode
+        #: observer amplifies the last-bit differences of a step-by-step plant)
+        self.pairs = None
+        if self.rows and kernel == "numba":
+            from uio_ring.numeric.scenario_kernel import tap_pairs
+            from uio_ring.sim.batch_linear import row_form
+
+            self.pairs = {name: tap_pairs(row_form(M)) if M.shape[0] else None
+                          for name, M in (("B", S.B), ("E", S.E), ("C", S.C), ("D", S.D), ("F", S.F))}
         self.b0 = 0
         self.noise = [sc.noise_model() for sc in scenarios]
         self._cache: dict[str, tuple[int, int, np.ndarray]] = {}
@@ -355,18 +365,28 @@ class _BatchPlant:
                         self.end_fix[k, i - 1] -= Mk[i] @ jump
 
     def _inputs(self, which: str, n: int, j_min: int, j_max: int) -> np.ndarray:
-        """Samples at ``j_min … j_max``, time-major ``(rows, K, n)``; sampled in windows of at
-        least ~2²¹ values (one call of each scenario's signal per window, not per segment)."""
+        """Samples at ``j_min … j_max``, time-major ``(rows, K, n)`` (a view of scenario-innermost
+        ``(rows, n, K)`` samples for the compiled segments: :meth:`_inputs_k`); sampled in windows of
+        at least ~2²¹ values (one call of each scenario's signal per window, not per segment)."""
         cache = self._cache.get(which)
         if cache is None or j_min < cache[0] or j_max > cache[1]:
             K = len(self.scen)
-            hi = max(j_max, j_min + INPUT_WINDOW // max(K * n, 1))
-            arr = np.empty((hi - j_min + 1, K, n))
+            # (not past the last block: a short run samples its horizon only)
+            hi = max(j_max, min(j_min + INPUT_WINDOW // max(K * n, 1), self.n_steps + self.N))
+            arr = np.empty((hi - j_min + 1, n, K)) if self.pairs is not None else np.empty((hi - j_min + 1, K, n))
+            view = arr.transpose(0, 2, 1) if self.pairs is not None else arr
+            t = np.arange(j_min, hi + 1) * self.dt  # (as input_samples: one time grid for every callable)
             for k, sc in enumerate(self.scen):
-                arr[:, k] = input_samples(getattr(sc, which), n, j_min=j_min, j_max=hi, n_steps=self.n_steps,
-                                          dt=self.dt, name=which).T
-            cache = self._cache[which] = (j_min, hi, arr)
+                sig = getattr(sc, which)
+                view[:, k] = (sample_signal(sig, t, n, which) if callable(sig) and n else
+                              input_samples(sig, n, j_min=j_min, j_max=hi, n_steps=self.n_steps, dt=self.dt,
+                                            name=which)).T
+            cache = self._cache[which] = (j_min, hi, view)
         return cache[2][j_min - cache[0] : j_max - cache[0] + 1]
+
+    def _inputs_k(self, which: str, n: int, j_min: int, j_max: int) -> np.ndarray:
+        """:meth:`_inputs` scenario-innermost ``(rows, n, K)``, contiguous (no copy)."""
+        return self._inputs(which, n, j_min, j_max).transpose(0, 2, 1)
 
     def _noise(self, n_y: int, j0: int, j1: int) -> np.ndarray | None:
         if all(nz is None for nz in self.noise):
@@ -385,6 +405,56 @@ class _BatchPlant:
                 out[:, k, i] = np.random.Generator(bg).uniform(-1.0, 1.0, size=m) * amp[i]
         return out
 
+    def _fix(self, nb: int) -> np.ndarray | None:
+        """The left limits at the ends of the segment's first blocks (array inputs that jump at 0)."""
+        if not (self.Kin and self.b0 < self.Kin and np.any(self.end_fix)):
+            return None
+        fix = np.zeros((len(self.scen), nb, self.S.n_x))
+        c = min(self.Kin - self.b0, nb)
+        fix[:, :c] = self.end_fix[:, self.b0 : self.b0 + c]
+        return fix
+
+    def _segment_k(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`segment` scenario-innermost (``(rows, ·, K)`` arrays, compiled loops); x and y are
+        handed out as time-major views."""
+        from uio_ring.numeric.scenario_kernel import delayed_sum_k
+        from uio_ring.sim.batch_plant_k import run_blocks_k
+
+        S, N, b0, P = self.S, self.N, self.b0, self.pairs
+        assert P is not None
+        K, a0 = len(self.scen), b0 * N
+        KxN, KinN = self.Kx * N, self.Kin * N
+        WT = self._inputs_k("w", S.n_w, a0 - KinN, a0 + nb * N)
+        UT = self._inputs_k("u", S.n_u, a0 - KinN, a0 + nb * N)
+        W, U = WT.transpose(0, 2, 1), UT.transpose(0, 2, 1)
+
+        def taps(name: str, rows: np.ndarray | None, j0: int, L: int, off: int, into: np.ndarray) -> None:
+            pairs = P[name]
+            if pairs is not None and rows is not None:
+                delayed_sum_k(pairs, rows, j0, L, off, N, into=into)
+
+        fin = (np.zeros((nb * N + 1, S.n_x, K)) if P["B"] is None else
+               delayed_sum_k(P["B"], WT, 0, nb * N + 1, KinN, N))
+        taps("E", UT, 0, nb * N + 1, KinN, fin)
+        XT = np.empty((KxN + nb * N + 1, S.n_x, K))  # XT[KxN + j − a0] = x(t_j)
+        XT[: KxN + 1] = self.Xtail.transpose(0, 2, 1)
+        run_blocks_k(self.integ, XT[(self.Kx - self.KA) * N :], fin, nb, self._fix(nb))
+        jlo = 0 if b0 == 0 else a0 + 1
+        jhi = min(a0 + nb * N, self.n_steps)
+        self.Xtail = XT[nb * N :].copy().transpose(0, 2, 1)  # time-major view (the closed loop reads x(0))
+        L = jhi - jlo + 1
+        YT = np.zeros((L, S.n_y, K))
+        taps("C", XT, jlo, L, KxN - a0, YT)
+        taps("D", WT, jlo, L, KinN - a0, YT)
+        taps("F", UT, jlo, L, KinN - a0, YT)
+        nz = self._noise(S.n_y, jlo, jhi)
+        if nz is not None:
+            YT += nz.transpose(0, 2, 1)
+        self.b0 = b0 + nb
+        sl = slice(KxN + jlo - a0, KxN + jhi - a0 + 1)
+        rows = slice(KinN + jlo - a0, KinN + jhi - a0 + 1)
+        return jlo, jhi, XT[sl].transpose(0, 2, 1), YT.transpose(0, 2, 1), W[rows], U[rows]
+
     def segment(self, nb: int) -> tuple[int, int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Integrate ``nb`` blocks; return ``(jlo, jhi, X, Y, W, U)`` for the new samples ``jlo … jhi``
         (time-major: ``(jhi − jlo + 1, K, ·)``; the first segment includes ``j = 0``)."""
@@ -393,6 +463,8 @@ class _BatchPlant:
         b0 = self.b0
         a0 = b0 * N
         nb = max(1, min(nb, -(-(self.n_steps - a0) // N)))  # not past the horizon
+        if self.pairs is not None:
+            return self._segment_k(nb)
         KxN, KinN = self.Kx * N, self.Kin * N
         X = np.empty((KxN + nb * N + 1, K, S.n_x))  # time-major: X[KxN + j − a0] = x(t_j)
         X[: KxN + 1] = self.Xtail
@@ -443,24 +515,38 @@ class _BatchObserver:
         self.pad = max(st.lag * st.N, 0 if st.Wm is None else (st.Wm.shape[0] - 1) * st.N)
         self.scan = LinearScan(st.Phi, chunk=16) if st.inj is None else None
         self.PhiT = st.Phi.T.copy()
-        self.WstT = None if st.W is None else np.stack([Wm.T for Wm in st.W])  # the cubic stencil, row form
         self.binj = None if st.inj is None else _BatchInjection(st.inj)
         self.Ytail: np.ndarray | None = None
         self.Utail = self.Ztail = self.xi = np.zeros(0)
         self.started = False
         self.z0: np.ndarray | None = None
+        #: numba, a linear observer with the cubic forcing, K ≥ 8 (fewer: the chunked LinearScan of
+        #: simulate_observer, whose rounding it shares): every segment scenario-innermost, compiled
+        self.lin_k = None
+        if kernel == "numba" and st.inj is None and st.cubic and len(scenarios) >= 8:
+            from uio_ring.sim.batch_linear import LinearObserverK
+
+            self.lin_k = LinearObserverK(st, u_history, self.pad, self._xi_from)
 
     def start_exact(self, Yp: np.ndarray, Up: np.ndarray, z0: np.ndarray) -> None:
         """Start from the true past (``exact_start``): y, u at ``j = −Lt … −1`` (time-major rows)
         and ``ẑ(0)`` ``(K, n_z)``, instead of y held at y(0), u from its history and x̂(0)."""
         self.Ytail, self.Utail, self.z0 = Yp, Up, z0
+        if self.lin_k is not None:
+            self.lin_k.start_exact(Yp, Up)
 
     def _xi0(self, Yrows: np.ndarray, Urows: np.ndarray, off: int) -> np.ndarray:
         st = self.st
-        K = len(self.scen)
         D0 = _bsum(st.Dy, Yrows, 0, 0, st.N, off)[0]
         if st.n_u:
             D0 = D0 + _bsum(st.Du, Urows, 0, 0, st.N, off)[0]
+        return self._xi_from(D0)
+
+    def _xi_from(self, D0: np.ndarray) -> np.ndarray:
+        """``ξ(0)`` ``(K, n_z)`` from ``D(δ) y`` (and u) at t = 0: ``ẑ(0) − D0`` for ``exact_start``,
+        else ``initial · x̂(0) − D0`` for the scenarios with ``x_hat0``, else 0."""
+        st = self.st
+        K = len(self.scen)
         if self.z0 is not None:
             return self.z0 - D0
         xi = np.zeros((K, st.n_z))
@@ -477,6 +563,9 @@ class _BatchObserver:
         """``x̂`` (and ``ŵ``) at the new samples ``jlo …`` from y, u there: ``(S, K, n_x)``."""
         st, N, Lt = self.st, self.st.N, self.Lt
         Sn, K = Y.shape[0], Y.shape[1]
+        if self.lin_k is not None:
+            self.started = True
+            return self.lin_k.segment(jlo, Y, U)
         if st.n_u == 0:
             U = np.zeros((Sn, K, 0))
         first, self.started = not self.started, True
@@ -498,14 +587,7 @@ class _BatchObserver:
             D += _bsum(st.Du, Urows, jlo, j1, N, off, kern)
         steps = np.arange(jlo - 1 if not first else 0, j1)  # the steps j → j + 1 of this segment
         xi_prev = self._xi0(Yrows, Urows, off) if first else self.xi
-        one_pass = self.binj is None and kern == "numba" and st.cubic and steps.size > 0 and (K >= 8 or steps.size <= 32)
-        if one_pass and steps[0] >= st.guard_blocks * N:  # past the start's stencils: forcing and steps fused
-            from uio_ring.numeric.linear_kernel import stencil_scan
-
-            g0 = int(steps[0]) - (jlo - 3)
-            Xi = stencil_scan(G, np.array([g0 - 2, g0 - 1, g0, g0 + 1]), np.ascontiguousarray(self.WstT), self.PhiT,
-                              xi_prev, np.empty((steps.size, K, st.n_z)))
-        elif self.binj is not None:
+        if self.binj is not None:
             Xi = self._loop(xi_prev, self._forcing(G, steps, jlo), G, Yrows, Urows, off, steps, jlo)
         elif K >= 8 or steps.size <= 32:  # one small product per step carries K scenarios
             Xi = scan_rows(self.PhiT, xi_prev, self._forcing(G, steps, jlo), kern)  # the forcing: this segment's own array
@@ -615,8 +697,9 @@ def _error_norm(X: np.ndarray, xh: np.ndarray) -> np.ndarray:
 class _Metrics:
     """On-the-fly error metrics of K runs (see :data:`METRICS`)."""
 
-    def __init__(self, K: int, dt: float, tol: float, diverge: float, settle: float):
+    def __init__(self, K: int, dt: float, tol: float, diverge: float, settle: float, kernel: str = "python"):
         self.dt, self.tol, self.diverge = dt, tol, diverge
+        self.kernel = kernel  # "numba": error and statistics in one compiled pass (numeric.metrics_kernel)
         self.j_settle = int(np.ceil(settle / dt - 1e-9))
         self.max_set = np.zeros(K)
         self.sq_set = np.zeros(K)
@@ -630,6 +713,18 @@ class _Metrics:
         self.t_peak = np.zeros(K)
         self.final = nan.copy()
         self.t_diverge = nan.copy()
+
+    def update_xy(self, jlo: int, X: np.ndarray, xh: np.ndarray) -> None:
+        """:meth:`update` with the error of the samples ``x``, ``x̂`` (time-major ``(S, K, n)``)."""
+        if self.kernel != "numba":
+            self.update(jlo, _error_norm(X, xh).T)
+            return
+        from uio_ring.numeric.metrics_kernel import update_metrics
+
+        update_metrics(X, xh, jlo, self.dt, self.tol, self.diverge, self.j_settle, self.last_bad, self.max_after,
+                       self.sumsq, self.count, self.peak, self.t_peak, self.final, self.t_diverge, self.max_set,
+                       self.sq_set)
+        self.n_set += max(0, X.shape[0] - max(self.j_settle - jlo, 0))
 
     def update(self, jlo: int, e: np.ndarray) -> None:
         """``e`` ``(K, S)``: the error norm at ``j = jlo … jlo + S − 1``."""
@@ -848,9 +943,11 @@ def simulate_batch(
     kernel : str, optional
         Backend of the observer's step loop (injection terms), as in :func:`simulate_observer`:
         with numba, one compiled loop over the K scenarios and their steps; numba also runs the
-        linear loops of an open loop (the plant's time-major steps and quadrature, the delayed
-        taps, a linear observer's recursion: :mod:`uio_ring.numeric.linear_kernel`), which
-        agree with numpy's up to rounding.
+        linear loops of an open loop with the scenarios innermost (one plant's steps, forcing and
+        outputs: :mod:`uio_ring.sim.batch_plant_k`; a linear observer with the cubic forcing:
+        :mod:`uio_ring.sim.batch_linear`; other observers' taps: :mod:`uio_ring.numeric.linear_kernel`)
+        and the error metrics in one pass (:mod:`uio_ring.numeric.metrics_kernel`), which agree
+        with numpy's up to rounding.
     exact_start : bool
         As in :func:`simulate_observer`: every plant starts earlier (whole blocks of h; w and u
         callables or None, shifted), and the observer gets the true past of y and u and its
@@ -942,7 +1039,7 @@ def simulate_batch(
                 uh[:, k] = input_samples(sc.u, model.n_u, j_min=-L, j_max=-1, n_steps=n_steps, dt=dtv, name="u").T
         bo = _BatchObserver(stepper, scen, uh, lin)
         tf = n_steps * dtv
-        met = _Metrics(K, dtv, tolv, divv, tf / 2 if settle is None else float(settle))
+        met = _Metrics(K, dtv, tolv, divv, tf / 2 if settle is None else float(settle), lin)
         width = max(S.n_x, S.n_y, model.n_z, S.n_w + S.n_u, 1) * 4
         nb = _segment_blocks(K, bp.N, width, segment_steps)
         if feedback is None:
@@ -957,7 +1054,7 @@ def simulate_batch(
                 if on_segment is not None:
                     t = np.arange(jo, jo + X.shape[0]) * dtv
                     on_segment(Segment(t=t, x=X, y=Y, w=W, u=U, x_hat=xh, w_hat=wh))
-                met.update(jo, _error_norm(X, xh).T)
+                met.update_xy(jo, X, xh)
                 if trajectories:
                     keep.append((X, Y, xh, wh))
                 bar.update(jo + X.shape[0])
