@@ -238,3 +238,34 @@ def test_generated_loops_without_a_writable_directory(tmp_path, monkeypatch):
     out = sk.tap_sum_k(S, np.array([1, 0]), sk.tap_pairs(M), np.empty((4, 3, 5)))
     assert np.allclose(out, _reference_taps(S, np.array([1, 0]), M, 4), rtol=1e-13, atol=1e-13)
     assert not (blocker / "k").exists()
+
+
+def test_generated_loops_are_never_imported_from_a_directory_others_may_write(tmp_path, monkeypatch):
+    """The source modules are imported: a directory writable by others is refused, and so is a
+    file whose text is not the generator's (both make the caller compile in memory)."""
+    import uio_ring.numeric.scenario_kernel as sk
+
+    shared = tmp_path / "shared"
+    shared.mkdir(mode=0o777)
+    shared.chmod(0o777)
+    monkeypatch.setenv(sk.KERNEL_DIR_ENV, str(shared))
+    src = sk._source("tap", 2)
+    with pytest.raises(PermissionError):
+        sk._module_path(src, "tap_r2")
+    assert not list(shared.iterdir())
+
+    own = tmp_path / "own"
+    monkeypatch.setenv(sk.KERNEL_DIR_ENV, str(own))
+    path = sk._module_path(src, "tap_r2")
+    assert own.stat().st_mode & 0o777 == 0o700
+    path.write_text(src + "import os\n")  # planted code under the expected name
+    with pytest.raises(PermissionError):
+        sk._module_path(src, "tap_r2")
+
+
+def test_generated_loops_default_to_the_users_cache(monkeypatch, tmp_path):
+    import uio_ring.numeric.scenario_kernel as sk
+
+    monkeypatch.delenv(sk.KERNEL_DIR_ENV, raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    assert sk._kernel_dir() == tmp_path / "uio_ring" / "kernels"

@@ -40,7 +40,6 @@ import hashlib
 import importlib.util
 import os
 import sys
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -231,18 +230,48 @@ def _compiled(kind: str, r: int) -> tuple[Any, Any]:
 
 
 #: The environment variable with the directory of the generated loops' source modules (default:
-#: ``uio_ring-kernels`` in the temporary directory).
+#: ``$XDG_CACHE_HOME/uio_ring/kernels``, else ``~/.cache/uio_ring/kernels``).
 KERNEL_DIR_ENV = "UIO_RING_KERNEL_DIR"
+
+
+def _kernel_dir() -> Path:
+    """The directory of the loops' source modules: ``$UIO_RING_KERNEL_DIR``, else the user's cache.
+
+    Never the shared temporary directory: a file imported from there could have been put
+    there by another user."""
+    env = os.environ.get(KERNEL_DIR_ENV)
+    if env:
+        return Path(env)
+    cache = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(cache) / "uio_ring" / "kernels"
+
+
+def _private(root: Path) -> bool:
+    """True if ``root`` belongs to this user and no one else may write into it (POSIX; on
+    other systems the user's profile directory is private already)."""
+    if not hasattr(os, "getuid"):
+        return True
+    st = root.stat()
+    return st.st_uid == os.getuid() and not st.st_mode & 0o022
 
 
 def _module_path(source: str, name: str) -> Path:
     """The file holding ``source`` (named by its hash: a changed generator writes a new file; an
-    existing file is never rewritten, which would invalidate numba's cache of it)."""
-    root = Path(os.environ.get(KERNEL_DIR_ENV) or Path(tempfile.gettempdir()) / "uio_ring-kernels")
-    root.mkdir(parents=True, exist_ok=True)
+    existing file is never rewritten, which would invalidate numba's cache of it).
+
+    The file is imported, so it must be ours: the directory is created private (mode 0700)
+    and refused (``PermissionError``, the caller then compiles in memory) unless it belongs
+    to this user and is not writable by others, and an existing file must hold exactly
+    ``source``."""
+    root = _kernel_dir()
+    root.mkdir(mode=0o700, parents=True, exist_ok=True)
+    if not _private(root):
+        raise PermissionError(f"{root} is writable by other users")
     path = root / f"scenario_{name}_{hashlib.sha256(source.encode()).hexdigest()[:16]}.py"
     if not path.exists():
         tmp = path.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_text(source)
         os.replace(tmp, path)
+    if path.read_text() != source:
+        raise PermissionError(f"{path} does not hold the generated source")
     return path
