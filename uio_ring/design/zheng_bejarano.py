@@ -23,7 +23,7 @@ input, which the paper does not treat: ``H_u = −H Λ F_u``,
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
@@ -32,8 +32,9 @@ from uio_ring.analysis.rank_condition import matching_matrix
 from uio_ring.analysis.report import AssumptionsReport
 from uio_ring.design.delay_uio_design import DelayUIODesign
 from uio_ring.errors import DimensionError, DomainError, NotObservableError, UioRingError
+from uio_ring.ring.errors import NoPolynomialSolutionError
 from uio_ring.ring.hermite import hermite
-from uio_ring.ring.inverse import is_left_unimodular, is_unimodular, left_inverse
+from uio_ring.ring.inverse import is_unimodular, left_inverse
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.poly import exact_fraction
 from uio_ring.ring.solve import solve_left
@@ -104,10 +105,15 @@ def _read_poles(poles: Sequence[Any] | None, l_star: int) -> tuple[Fraction, ...
 
 @dataclass(frozen=True)
 class _ObservabilityIndex:
-    """Step 3: the least ``l*`` with ``Ō_{l*}`` left unimodular, and ``O = Ō_{l*}``."""
+    """Step 3: the least ``l*`` with ``Ō_{l*}`` left unimodular, and ``O = Ō_{l*}``;
+    ``solved`` (when known) is ``X`` with ``X·Ō = [I_n; C̄ Ā^{l*}]``, each row reduced modulo
+    the Popov basis of Ō's left kernel (:func:`~uio_ring.ring.solve.solve_left`): its first
+    n rows are the reduced left inverse, the witness that Ō is left unimodular."""
 
     l_star: int
     O: PolyMatrix
+    solved: PolyMatrix | None = field(default=None, compare=False)
+    next_block: PolyMatrix | None = field(default=None, compare=False)  # C̄ Ā^{l*} with ``solved``
 
 
 class _RowSpaceAtZero:
@@ -166,8 +172,15 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int) -> _Obser
         if at_zero.rank < n:
             continue
         O = PolyMatrix.vstack(*blocks)
-        if is_left_unimodular(O):
-            return _ObservabilityIndex(l, O)
+        # Ō is left unimodular iff X·Ō = I has a polynomial solution (the definition): the
+        # reduced solution the design needs anyway is the test (one elimination, not two);
+        # C̄ Ā^l, the right side of (16), is solved for in the same pass
+        nxt = last @ A_bar
+        try:
+            solved = solve_left(O, PolyMatrix.vstack(_I(n), nxt))
+        except NoPolynomialSolutionError:
+            continue
+        return _ObservabilityIndex(l, O, solved, nxt)
     return None
 
 
@@ -658,17 +671,17 @@ def _ranked_assemblies(sys: DelaySystem, finalists: list[_Candidate], budget: in
             if len(out) >= budget:
                 break
             C_bar = (Lam @ s12.C_tilde)[0:r, 0:n]
-            if C_bar == cand.index.O[0:r, 0:n]:  # Ō_{l*} of stage 1 (the Hermite Λ): reused
-                O = cand.index.O
-                CAl = O[(l_star - 1) * r : l_star * r, 0:n] @ s12.A_bar
+            # one solve for both: X·Ō = [I; C̄ Ā^{l*}], each row reduced modulo the Popov basis
+            # of Ō's left kernel (unique), so the first n rows are the reduced left inverse
+            if C_bar == cand.index.O[0:r, 0:n] and cand.index.solved is not None and cand.index.next_block is not None:
+                # Ō_{l*} of stage 1 (the Hermite Λ) and its solve: reused
+                O, both, CAl = cand.index.O, cand.index.solved, cand.index.next_block
             else:
                 rows = [C_bar]
                 for _k in range(l_star):
                     rows.append(rows[-1] @ s12.A_bar)
                 O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
-            # one solve for both: X·Ō = [I; C̄ Ā^{l*}], each row reduced modulo the Popov basis
-            # of Ō's left kernel (unique), so the first n rows are the reduced left inverse
-            both = solve_left(O, PolyMatrix.vstack(_I(n), CAl))
+                both = solve_left(O, PolyMatrix.vstack(_I(n), CAl))
             OL, F_reduced = both[0:n, 0 : O.rows], both[n : n + r, 0 : O.rows]
             done: list[tuple[PolyMatrix, PolyMatrix, PolyMatrix]] = []  # (F, T, T_L⁻¹) for this Λ
             for f_label in ("F reduced modulo the left kernel of Ō", "F by (16) with the reduced left inverse of Ō"):
