@@ -58,3 +58,29 @@ def test_sparse_left_factor_product_equals_entrywise_product(b, shift, r):
     nnz = sum(not p.is_zero() for row in a._r for p in row)
     assert nnz * 3 <= 9 * 9 + 9 * 3  # the sparse path is taken
     assert dn.matmul(a._r, b._r, 9, 9, 3) == _entrywise(a, b)
+
+
+@given(st.tuples(st.integers(1, 5), st.integers(1, 5), st.integers(1, 5)).flatmap(
+    lambda s: st.tuples(dense_matrices(rows=s[0], cols=s[1]), dense_matrices(rows=s[1], cols=s[2]))))
+def test_both_paths_equal_the_entrywise_product(ab):
+    """The coefficient-stacked path and the digit-packing path, each forced, against the
+    entry-by-entry product (small random matrices take the stacked path by default)."""
+    import uio_ring.ring._kronecker as kr
+
+    a, b = ab
+    saved = kr.STACK_MAX_DEGREE
+    try:
+        for bound in (-1, 10**6):  # never stacked / always stacked
+            kr.STACK_MAX_DEGREE, kr.STACK_MAX_BITS = bound, 10**9 if bound > 0 else 128
+            assert matmul_kronecker(a._r, b._r, a.rows, a.cols, b.cols) == _entrywise(a, b)
+    finally:
+        kr.STACK_MAX_DEGREE, kr.STACK_MAX_BITS = saved, 128
+
+
+def test_stacked_product_big_coefficients_times_low_degree():
+    """A Krylov-like block (high degree, big rational coefficients) times a degree-1 factor
+    with small ones: the stacked path, exactly the entry-by-entry product."""
+    a = PolyMatrix([[f"({3**60 + i}*d**{9 + j} - {2**70 + j}*d)/{7 + i}" for j in range(5)] for i in range(3)])
+    b = PolyMatrix([[f"{i - j}*d + {(i * j) % 3}/2" for j in range(4)] for i in range(5)])
+    assert matmul_kronecker(a._r, b._r, 3, 5, 4) == _entrywise(a, b)
+    assert matmul_kronecker(b.T._r, a.T._r, 4, 5, 3) == _entrywise(b.T, a.T)
