@@ -23,7 +23,7 @@ from fractions import Fraction
 from typing import Any, ClassVar
 
 from uio_ring.analysis.report import AssumptionsReport
-from uio_ring.design.base import ObserverDesign, matrix_to_data
+from uio_ring.design.base import ObserverDesign, _text_size_above, matrix_outline, matrix_to_data
 from uio_ring.ring.certificate import Certificate
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.systems.delay_system import DelaySystem
@@ -63,6 +63,11 @@ def guard_blocks_for(sys: DelaySystem) -> int:
 
 
 # ----------------------------------------------------------------------------------------
+#: ``str(design)`` outlines a matrix whose text would exceed about this many characters
+#: (shape, degree, coefficient bits) instead of printing it.
+TEXT_MATRIX_CHARS = 20_000
+
+
 @dataclass(frozen=True, repr=False)
 class DelayUIODesign(ObserverDesign):
     """The Zheng–Bejarano delay UIO: every matrix of Steps 1–5, named as in Zheng et al. (2015).
@@ -212,7 +217,14 @@ class DelayUIODesign(ObserverDesign):
             "  x̂  = T_L⁻¹ ẑ",
         ]
         for name in ("Lam", "L0", "H", "J", "T_left_inverse"):
-            lines.append(f"  {name} =\n    " + str(getattr(self, name)).replace("\n", "\n    "))
+            M = getattr(self, name)
+            if _text_size_above(M, TEXT_MATRIX_CHARS):  # e.g. T_L⁻¹ of a 32-state design: 2 MB
+                o = matrix_outline(M)
+                lines.append(f"  {name}: {o['shape'][0]}×{o['shape'][1]}, δ-degree {o['degree']}, coefficients "
+                             f"of up to {o['coefficient_bits']} bits: not shown (large); the exact matrix is "
+                             f"the field {name} of the design file")
+                continue
+            lines.append(f"  {name} =\n    " + str(M).replace("\n", "\n    "))
         if self.choice:
             lines.append(f"  choice: {self.choice}")
         return "\n".join(lines)
