@@ -85,7 +85,11 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
             nz = [i for i in range(r, m) if not a[i][j].is_zero()]
             if len(nz) <= 1:
                 break
-            p = min(nz, key=lambda i: (a[i][j].degree(), dn.row_degree(a[i]), i))
+            degs = [a[i][j].degree() for i in nz]
+            least = min(degs)
+            ties = [i for i, d in zip(nz, degs, strict=True) if d == least]
+            # the row degree only breaks ties (it costs a pass over the row)
+            p = ties[0] if len(ties) == 1 else min(ties, key=lambda i: (dn.row_degree(a[i]), i))
             pj = a[p][j]
             if len(nz) == 2:
                 for i in nz:
