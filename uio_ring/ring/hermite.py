@@ -189,13 +189,16 @@ def _hermite_by_toeplitz(
     a = M._r
     if m < (TOEPLITZ_MIN_ROWS if min_rows is None else min_rows):
         return None
-    r = -1 if singular else rank_raw(a, m, n)
+    # rank M < rows is certain when M is singular or tall (rank ≤ columns < rows)
+    r = -1 if singular or m > n else rank_raw(a, m, n)
     if r == m:
         return None
     h = dn.copy(a)
     small = _hermite_by_small_elimination(M, rows=h)
     if small is not None:
         return small
+    if m > n:
+        r = rank_raw(a, m, n)
     if r == n and coprime_maximal_minors(a, m, n):
         h_top = dn.identity(n)
         pivots = list(range(n))
