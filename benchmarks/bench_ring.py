@@ -25,9 +25,10 @@ Output size (``deg/bits`` columns, for each output matrix: H, U, V, K, L, X)
     29/44; reduced, Sage's U would be ours: two transforms differ by kernel rows).
     Smith transforms are not unique: ours may have a few more degrees (``U:deg``)
     with far fewer bits, or the reverse.  Both libraries' results are verified
-    after timing (U·M = H, U·M·V = S with U, V unimodular, K·M = 0 with rows − rank rows, L·M = I, X·M = W), and H, S (rows
-    made monic), det, rank and the row degrees of the kernel bases (the minimal
-    indices) are compared between the libraries; any failure is a WARNING and exit 1.
+    after timing (U·M = H, U·M·V = S with U, V unimodular, K·M = 0 with
+    rows − rank rows, L·M = I, X·M = W), and H, S (rows made monic), det, rank
+    and the row degrees of the kernel bases (the minimal indices) are compared
+    between the libraries; any failure is a WARNING and exit 1.
 
 SageMath (optional, never a test dependency)
     The passagemath wheels give what is used here (``PolynomialRing(QQ, 'd')``,
