@@ -16,11 +16,19 @@ Output size (``deg/bits`` columns, for each output matrix: H, U, V, K, L, X)
     max degree of the entries / max bit length of the integers of the primitive
     integer form of each row (the row times the lcm of its denominators, divided by
     the gcd of the resulting integers; so a row scaled by a constant has the same
-    size).  ``ours larger`` names the matrices where ours exceeds Sage's.  Both
-    libraries' results are verified after timing (U·M = H, U·M·V = S with U, V
-    unimodular, K·M = 0 with rows − rank rows, L·M = I, X·M = W), and H, S (rows
-    made monic), det, rank and the row degrees of the kernel bases (the minimal
-    indices) are compared between the libraries; any failure is a WARNING and exit 1.
+    size).  ``ours larger`` names the matrices where ours exceeds Sage's.
+    Expected entries there: ``U:bits`` / ``L:bits`` on tall matrices, because
+    ``hermite``'s U (and ``left_inverse``) is documented as reduced modulo the
+    Popov basis of the left kernel — the unique representative of least degree,
+    whatever algorithm computes it — while Sage returns its elimination transform
+    unreduced: about half the degree for more bits (tall 22×20: 14/161 against
+    29/44; reduced, Sage's U would be ours: two transforms differ by kernel rows).
+    Smith transforms are not unique: ours may have a few more degrees (``U:deg``)
+    with far fewer bits, or the reverse.  Both libraries' results are verified
+    after timing (U·M = H, U·M·V = S with U, V unimodular, K·M = 0 with
+    rows − rank rows, L·M = I, X·M = W), and H, S (rows made monic), det, rank
+    and the row degrees of the kernel bases (the minimal indices) are compared
+    between the libraries; any failure is a WARNING and exit 1.
 
 SageMath (optional, never a test dependency)
     The passagemath wheels give what is used here (``PolynomialRing(QQ, 'd')``,

@@ -143,7 +143,9 @@ def gcd(a: flint.fmpq_poly, b: flint.fmpq_poly) -> flint.fmpq_poly:
 
 def bits(p: flint.fmpq_poly) -> int:
     """Bits of the largest numerator coefficient plus those of the denominator."""
-    return int(p.numer().height_bits()) + int(p.denom().bit_length())
+    num: int = p.numer().height_bits()  # python-flint returns Python ints here
+    den: int = p.denom().bit_length()
+    return num + den
 
 
 def height(p: flint.fmpq_poly) -> int:

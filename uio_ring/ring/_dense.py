@@ -171,9 +171,9 @@ def weak_popov(a: Rows, u: Rows | None = None) -> list[int]:
         row_axpy(a, i, q, k)
         if u is not None:
             row_axpy(u, i, q, k)
-    nonzero = [i for i, r in enumerate(a) if any(not p.is_zero() for p in r)]
-    zero = [i for i in range(len(a)) if i not in set(nonzero)]
-    order = nonzero + zero
+    nonzero = sorted(seen.values())  # the rows with a leading position
+    rest = set(nonzero)
+    order = nonzero + [i for i in range(len(a)) if i not in rest]
     a[:] = [a[i] for i in order]
     if u is not None:
         u[:] = [u[i] for i in order]

@@ -23,12 +23,16 @@ from uio_ring.ring._predicates import det_raw
 __all__ = ["degree_reduced"]
 
 
-def degree_reduced(a: dn.Rows, n: int, *, track: bool) -> tuple[dn.Rows, dn.Rows | None] | None:
+def degree_reduced(
+    a: dn.Rows, n: int, *, track: bool, det: flint.fmpq_poly | None = None
+) -> tuple[dn.Rows, dn.Rows | None] | None:
     """``(R, W)`` with ``R = W·M`` in weak Popov form when that lowers the degree
     bound of M (square, nonsingular); None when M is singular or already tight.
-    ``W`` is None unless ``track``.  Precondition: n ≥ 1."""
+    ``W`` is None unless ``track``; ``det`` is det M when the caller has it.
+    Precondition: n ≥ 1."""
     bound = ev.minor_degree_bound(a, n, n, n)
-    det: flint.fmpq_poly = det_raw(a, n)
+    if det is None:
+        det = det_raw(a, n)
     if det.is_zero() or bound <= det.degree():
         return None
     r = dn.copy(a)

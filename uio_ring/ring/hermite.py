@@ -31,6 +31,7 @@ from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
 from uio_ring.ring._kernel_basis import TOEPLITZ_MIN_ROWS, popov_left_kernel, solve_reduced
 from uio_ring.ring._predicates import (
     coprime_maximal_minors,
+    det_raw,
     is_hermite_raw,
     is_unimodular_raw,
     rank_raw,
@@ -138,13 +139,16 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     M = require_matrix(M, "hermite")
     m, n = M.shape
     var = M.var
+    singular = False
     if m == n >= GENERIC_MIN_SIZE:
-        reduced = degree_reduced(M._r, n, track=True)
+        det = det_raw(M._r, n)
+        singular = det.is_zero()  # then neither of the two paths below applies
+        reduced = None if singular else degree_reduced(M._r, n, track=True, det=det)
         if reduced is not None:  # H(M) = H(W M) and U = U_R W
             R, W = reduced
             res = hermite(PolyMatrix._new(R, n, n, var))
             return HermiteResult(res.H, res.U @ PolyMatrix._new(W or [], n, n, var), res.rank, res.pivots)
-        got = generic_hermite(M._r, n)
+        got = None if singular else generic_hermite(M._r, n)
         if got is not None:
             H, U, _ = got
             return HermiteResult(
@@ -154,13 +158,15 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 pivots=tuple(range(n)),
             )
     if m > 0:
-        fast = _hermite_by_toeplitz(M)
+        fast = _hermite_by_toeplitz(M, singular=singular)
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
 
 
-def _hermite_by_toeplitz(M: PolyMatrix, *, min_rows: int | None = None) -> HermiteResult | None:
+def _hermite_by_toeplitz(
+    M: PolyMatrix, *, min_rows: int | None = None, singular: bool = False
+) -> HermiteResult | None:
     """Hermite form with U for ``rank M < rows``, without a transform from elimination.
 
     ``U = [X; K]``: K the Popov basis of the left kernel (one block-Toeplitz
@@ -172,25 +178,34 @@ def _hermite_by_toeplitz(M: PolyMatrix, *, min_rows: int | None = None) -> Hermi
     lies in the kernel (``= Y·K``) and ``K0 = Z·K`` with Z unimodular, so
     ``U = [[I, Y·Z⁻¹], [0, Z⁻¹]]·U0``.  ``X·M = H_top`` and ``K·M = 0`` are checked
     exactly inside.  None when a Toeplitz system would be too large, or M has fewer than
-    ``min_rows`` rows (default ``TOEPLITZ_MIN_ROWS``).
+    ``min_rows`` rows (default ``TOEPLITZ_MIN_ROWS``).  ``singular``: the caller has
+    proved M square and singular (its rank is then not computed: it is < rows and
+    < columns, and H comes from elimination).  When the elimination with transform
+    stops on coefficient growth, H is computed by continuing that elimination,
+    without transform, from where it stopped (the rows are unimodular combinations
+    of those of M, and H is unique).
     """
     m, n = M.shape
     a = M._r
     if m < (TOEPLITZ_MIN_ROWS if min_rows is None else min_rows):
         return None
-    r = rank_raw(a, m, n)
+    # rank M < rows is certain when M is singular or tall (rank ≤ columns < rows)
+    r = -1 if singular or m > n else rank_raw(a, m, n)
     if r == m:
         return None
-    small = _hermite_by_small_elimination(M)
+    h = dn.copy(a)
+    small = _hermite_by_small_elimination(M, rows=h)
     if small is not None:
         return small
+    if m > n:
+        r = rank_raw(a, m, n)
     if r == n and coprime_maximal_minors(a, m, n):
         h_top = dn.identity(n)
         pivots = list(range(n))
     else:
-        h = dn.copy(a)
         pivots = row_echelon(h, None, m, n)
         normalise(h, None, pivots)
+        r = len(pivots)
         h_top = h[:r]
     K = popov_left_kernel(a, m, n, min_rows=0)
     if K is None:
@@ -212,7 +227,7 @@ def _hermite_by_toeplitz(M: PolyMatrix, *, min_rows: int | None = None) -> Hermi
 ELIMINATION_BITS = 64
 
 
-def _hermite_by_small_elimination(M: PolyMatrix) -> HermiteResult | None:
+def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None) -> HermiteResult | None:
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
     None as soon as a coefficient of the elimination exceeds ``ELIMINATION_BITS +
     4·max_bits(M)`` bits.
@@ -225,7 +240,9 @@ def _hermite_by_small_elimination(M: PolyMatrix) -> HermiteResult | None:
     the result is the same H and U as from the Toeplitz nullspace, which costs
     O(N³) word operations per prime whatever the coefficients (40× slower there).
     Generic tall matrices swell to thousands of bits within a few columns: the
-    cap stops those early and the caller takes the Toeplitz path.
+    cap stops those early and the caller takes the Toeplitz path.  ``rows``: a copy
+    of the rows of M to work in (the caller keeps it: half eliminated when the cap
+    stops the elimination).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"]])
@@ -234,7 +251,7 @@ def _hermite_by_small_elimination(M: PolyMatrix) -> HermiteResult | None:
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, 1, -1]]))
     """
     m, n = M.shape
-    a = dn.copy(M._r)
+    a = dn.copy(M._r) if rows is None else rows
     u = dn.identity(m)
     try:
         pivots = row_echelon(a, u, m, n, bit_cap=ELIMINATION_BITS + 4 * max_bits(M._r))

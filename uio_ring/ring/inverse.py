@@ -92,11 +92,14 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     """
     M = require_matrix(M, "left_inverse")
     m, n = M.shape
-    if m > n > 0 and rank_raw(M._r, m, n) == n:
-        # Elimination while its coefficients stay small: U·M = [I; 0] proves it.
+    small = None
+    if m > n > 0:
+        # Elimination while its coefficients stay small: U·M = [I; 0] proves it, and
+        # any other H proves that no left inverse exists (the errors are raised below).
         small = _hermite_by_small_elimination(M)
         if small is not None and small.H[:n, :] == PolyMatrix.identity(n, M.var):
             return small.U[:n, :]
+    if m > n > 0 and small is None and rank_raw(M._r, m, n) == n:
         # A returned X is checked exactly (X·M = I), which itself proves that M is left
         # unimodular: two degree bounds first, and all of them only when the minors are
         # proved coprime (the proof costs more than the usual first solve).
