@@ -35,7 +35,10 @@ imported on the first call, the loops cached on disk (``cache=True``).
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import threading
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -94,6 +97,25 @@ def threads() -> int:
     return max(1, min(int(raw), numba.get_num_threads(), os.cpu_count() or 1))
 
 
+_LOCAL = threading.local()
+
+
+@contextlib.contextmanager
+def serial_loops() -> Iterator[None]:
+    """In this thread, the compiled loops on one thread whatever ``UIO_RING_THREADS`` (a chunk of a
+    batch already running on a thread of its own).
+
+    >>> with serial_loops():
+    ...     chunks(1000)
+    1
+    """
+    _LOCAL.serial = True
+    try:
+        yield
+    finally:
+        _LOCAL.serial = False
+
+
 def chunks(K: int) -> int:
     """Blocks of scenarios of K columns: one per thread (:func:`threads`), each of at least
     :data:`MIN_CHUNK` scenarios.
@@ -101,6 +123,8 @@ def chunks(K: int) -> int:
     >>> chunks(1), chunks(16)
     (1, 1)
     """
+    if getattr(_LOCAL, "serial", False):
+        return 1
     return max(1, min(threads(), K // MIN_CHUNK))
 
 

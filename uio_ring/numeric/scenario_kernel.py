@@ -40,6 +40,7 @@ import hashlib
 import importlib.util
 import os
 import sys
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -129,7 +130,8 @@ def _run(kind: str, r: int, *args: np.ndarray) -> None:
     K = out.shape[2]
     if K == 0 or out.shape[0] == 0:
         return
-    serial, parallel = _compiled(kind, r)
+    with _COMPILE_LOCK:  # chunks of a batch on threads: one compilation
+        serial, parallel = _compiled(kind, r)
     nc = chunks(K) if out.size >= PARALLEL_MIN else 1
     if nc == 1:
         serial(*args, 0, K)
@@ -154,6 +156,8 @@ def _indent(lines: list[str], n: int) -> list[str]:
 #: Fewest output values of a call run on several threads (a smaller one runs on one: the threads'
 #: hand-over costs 10–30 µs on idle cores, and up to a scheduler tick, 4 ms, on busy ones).
 PARALLEL_MIN = 1 << 16
+
+_COMPILE_LOCK = threading.Lock()
 
 #: Coefficient rows applied per pass over the outputs (their loads and stores shared).
 GROUP = 4
