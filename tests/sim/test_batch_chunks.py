@@ -93,8 +93,10 @@ def test_chunked_injection_observer_is_bit_identical(kernel, monkeypatch):
     of ≤ 4 against one (all below: the scalar solver)."""
     nf = design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
     rng = np.random.default_rng(3)
-    sc = [Scenario(x0=np.array(paper000.X0) * rng.uniform(0.5, 1.5),
-                   w=lambda t, a=rng.uniform(0, 0.01): 0.008 + a * np.sin(2 * t)) for _ in range(52)]
+    def w(a):
+        return lambda t: 0.008 + a * np.sin(2 * t)
+
+    sc = [Scenario(x0=np.array(paper000.X0) * rng.uniform(0.5, 1.5), w=w(rng.uniform(0, 0.01))) for _ in range(52)]
     kw = dict(t_final=0.005, dt=1e-4, trajectories=True, discretisation="implicit", kernel=kernel)
     for K, chunk, low in ((52, 26, batch.MIN_CHUNK), (9, 4, 1)):
         monkeypatch.setattr(batch, "CHUNK", 1000)

@@ -1046,14 +1046,8 @@ def simulate_batch(
         if n_thr > 1 and len(parts) > 1:
             from concurrent.futures import ThreadPoolExecutor
 
-            from uio_ring.numeric.linear_kernel import serial_loops
-
-            def on_thread(i: int) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], float]:
-                with serial_loops():  # one thread per chunk: the compiled loops stay on it
-                    return one(i)
-
-            with ThreadPoolExecutor(min(n_thr, len(parts))) as ex:
-                res = list(ex.map(on_thread, range(len(parts))))
+            with ThreadPoolExecutor(min(n_thr, len(parts))) as ex:  # whole chunks per thread
+                res = list(ex.map(one, range(len(parts))))
         else:
             res = [one(i) for i in range(len(parts))]
     met = {k: np.concatenate([r[0][k] for r in res]) for k in res[0][0]}
