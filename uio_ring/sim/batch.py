@@ -1034,7 +1034,7 @@ def simulate_batch(
                                         "batch") as bar:
         done = [0] * len(parts)
 
-        def one(i: int) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], float]:
+        def one(i: int) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
             k0, k1 = parts[i]
 
             def tick(d: int) -> None:
@@ -1053,7 +1053,8 @@ def simulate_batch(
     met = {k: np.concatenate([r[0][k] for r in res]) for k in res[0][0]}
     out = {k: np.concatenate([r[1][k] for r in res]) for k in res[0][1]}
     return BatchResult(metrics=met, dt=dtv, n_steps=n_steps, tol=tolv, diverge=divv,
-                       extra={"model": model, "stepper": stepper, "plant_h": res[0][2]}, **out)
+                       extra={"model": model, "stepper": stepper, "plant_h": groups[0][0] if len(groups) == 1 else ph},
+                       **out)
 
 
 #: Scenarios per chunk (:func:`chunk_bounds`): a batch of more runs in consecutive chunks of at most
@@ -1107,8 +1108,8 @@ class _Run:
     feedback: Any
 
     def chunk(self, scen: Sequence[Scenario], plant_scen: Sequence[Scenario], tick: Callable[[int], None],
-              ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], float]:
-        """Metrics, trajectories (``(k, n, T)``, if kept) and the plant's h of the scenarios ``scen``."""
+              ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+        """Metrics and trajectories (``(k, n, T)``, if kept) of the scenarios ``scen``."""
         model, stepper, dtv, n_steps, s0, lin = self.model, self.stepper, self.dtv, self.n_steps, self.s0, self.lin
         sys, feedback, on_segment, exact_start = self.sys, self.feedback, self.on_segment, self.exact_start
         K = len(scen)
@@ -1153,4 +1154,4 @@ class _Run:
             for i, name in enumerate(("x", "y", "x_hat", "w_hat")):
                 if name != "w_hat" or model.W is not None:  # (T, K, n) → (K, n, T)
                     out[name] = np.ascontiguousarray(np.concatenate([k[i] for k in keep], axis=0).transpose(1, 2, 0))
-        return met.result(n_steps), out, ph
+        return met.result(n_steps), out
