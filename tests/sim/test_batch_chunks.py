@@ -86,25 +86,29 @@ def test_chunked_batch_is_bit_identical(zb, kernel, dt, perturb, monkeypatch):
     _assert_identical(one, cut)
 
 
-@pytest.mark.parametrize("kernel", KERNELS)
-def test_chunked_injection_observer_is_bit_identical(kernel, monkeypatch):
-    """An observer with Levant differentiators (implicit chain equations): K = 52 in two chunks of 26
-    against one chunk (both above SCALAR_CHAINS_BELOW: the vectorised solver), and K = 9 in chunks
-    of ≤ 4 against one (all below: the scalar solver)."""
+@needs_numba
+def test_chunked_injection_observer_is_bit_identical(monkeypatch):
+    """An observer with Levant differentiators stepped by the compiled loop (implicit chain equations):
+    K = 52 in two chunks of 26, and K = 9 in chunks of ≤ 4, against one chunk (in Python it is never
+    cut: test_python_injection_steps_are_one_chunk)."""
     nf = design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
     rng = np.random.default_rng(3)
     def w(a):
         return lambda t: 0.008 + a * np.sin(2 * t)
 
     sc = [Scenario(x0=np.array(paper000.X0) * rng.uniform(0.5, 1.5), w=w(rng.uniform(0, 0.01))) for _ in range(52)]
-    kw = dict(t_final=0.005, dt=1e-4, trajectories=True, discretisation="implicit", kernel=kernel)
-    for K, chunk, low in ((52, 26, batch.MIN_CHUNK), (9, 4, 1)):
+    kw = dict(t_final=0.005, dt=1e-4, trajectories=True, discretisation="implicit", kernel="numba")
+    sizes = []
+    run_chunk = batch._Run.chunk
+    monkeypatch.setattr(batch._Run, "chunk", lambda self, s, *a: sizes.append(len(s)) or run_chunk(self, s, *a))
+    for K, chunk, low, cut in ((52, 26, batch.MIN_CHUNK, [26, 26]), (9, 4, 1, [3, 3, 3])):
         monkeypatch.setattr(batch, "CHUNK", 1000)
         one = simulate_batch(nf, sc[:K], **kw)
         monkeypatch.setattr(batch, "CHUNK", chunk)
         monkeypatch.setattr(batch, "MIN_CHUNK", low)
-        assert len(chunk_bounds(K)) == -(-K // chunk)
+        sizes.clear()
         _assert_identical(one, simulate_batch(nf, sc[:K], **kw))
+        assert sizes == cut
 
 
 @pytest.mark.parametrize("kernel", KERNELS)
@@ -126,6 +130,19 @@ def test_chunks_on_threads_are_bit_identical(zb, kernel, monkeypatch):
     assert sorted(n for n, _ in seen) == [25, 25]
     assert all(t != threading.main_thread().ident for _, t in seen)
     _assert_identical(one, two)
+
+
+def test_python_injection_steps_are_one_chunk(monkeypatch):
+    """An injection term stepped in Python shares its per-step overhead among all K rows: one chunk."""
+    nf = design_normal_form(paper000.aircraft(), ["0.02"], gains=paper000.GAINS_89)
+    monkeypatch.setattr(batch, "CHUNK", 4)
+    monkeypatch.setattr(batch, "MIN_CHUNK", 1)
+    sizes = []
+    run_chunk = batch._Run.chunk
+    monkeypatch.setattr(batch._Run, "chunk", lambda self, s, *a: sizes.append(len(s)) or run_chunk(self, s, *a))
+    sc = [Scenario(x0=np.array(paper000.X0) * (1 + 0.1 * k)) for k in range(9)]
+    simulate_batch(nf, sc, t_final=0.002, dt=1e-4, kernel="python")
+    assert sizes == [9]
 
 
 def test_no_chunks_with_on_segment_or_feedback(zb, monkeypatch):
