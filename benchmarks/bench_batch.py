@@ -34,8 +34,8 @@ The aircraft and paper 001 cases are timed with both backends (``kernel=``): ``"
 the compiled step loop of the aircraft's observer; for paper 001 the compiled linear loops
 (plant steps and quadrature, delayed taps, the observer's recursion). The batch is timed in
 CPU time and in wall-clock time (``wall st/s``), each the best of 3; paper 001 with numba also
-with the compiled linear loops on 2 threads (``UIO_RING_THREADS=2``, ``numba×2`` in the name)
-when the machine has 2 cores (the cores and the load average are printed first: a second
+with 2 threads (``UIO_RING_THREADS=2``, ``numba×2`` in the name: chunks of scenarios on a
+thread pool, ``simulate_batch``'s ``chunk_bounds``) when the machine has 2 cores (the cores and the load average are printed first: a second
 thread only gains on an idle core).
 
 Usage::
@@ -169,7 +169,7 @@ def _single_options(opts):
 
 
 def bench(name, case, K, t_final, dt, n_single, kernel=None, threads=1):
-    os.environ["UIO_RING_THREADS"] = str(threads)  # the compiled linear loops (uio_ring.numeric.linear_kernel)
+    os.environ["UIO_RING_THREADS"] = str(threads)  # chunks of scenarios on threads (simulate_batch)
     des, scen, opts = case(K, np.random.default_rng(0))
     if kernel is not None:
         opts = {**opts, "kernel": kernel}
@@ -205,7 +205,7 @@ def main() -> None:
           f"{'speed-up':>8} {'max dev':>10} {'conv':>5} {'wall st/s':>12}")
     cores = os.cpu_count() or 1
     print(f"cores: {cores}, load average: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
-    for kern in kernels():  # numba: the compiled linear loops (uio_ring.numeric.linear_kernel)
+    for kern in kernels():  # numba: the compiled linear loops (uio_ring.numeric.scenario_kernel, linear_kernel)
         for th in (1, 2) if kern == "numba" and cores >= 2 else (1,):
             tag = kern if th == 1 else f"{kern}×{th}"
             bench(f"paper 001 (ZB, dt=1e-4, {tag})", paper001_case, K, 0.1 if args.quick else 1.0, 1e-4,

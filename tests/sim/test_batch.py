@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import importlib.util
-import os
 
 import numpy as np
 import pytest
@@ -237,98 +236,24 @@ def test_compiled_linear_loops_equal_numpy(zb, dt, perturb, monkeypatch):
 
 
 @needs_numba
-@pytest.mark.parametrize("dt", [2.5e-4, 1e-3])
-def test_compiled_linear_loops_do_not_depend_on_the_thread_count(zb, dt, monkeypatch):
-    """UIO_RING_THREADS=2 cuts the K = 37 scenarios into two blocks (19 + 18) run by numba's threads
-    (taps, plant and observer recursions: the fused stencils and steps; N = 10: the plant's taps
-    time-major):
-    x, y, x̂ and every metric are bit-identical to one thread (each scenario is computed by the
-    same operations in any block), and equal to the numpy path to 1e-12."""
-    import numba
-
-    import uio_ring.numeric.linear_kernel as lk
-    import uio_ring.numeric.scenario_kernel as sk
-
-    if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
-        pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
-    rng = np.random.default_rng(5)
-    sc = [Scenario(x0=rng.normal(size=4), w=_w(rng.uniform(1, 10), 40.0), noise=0.01 if k % 5 == 1 else None,
-                   seed=k) for k in range(37)]
-    kw = dict(t_final=0.08, dt=dt, trajectories=True, segment_steps=120)  # fused steps from t = 6 h on
-    monkeypatch.setenv(lk.THREADS_ENV, "1")
-    assert lk.chunks(37) == 1
-    one = simulate_batch(zb, sc, kernel="numba", **kw)
-    monkeypatch.setenv(lk.THREADS_ENV, "2")
-    assert lk.chunks(37) == 2
-    blocks = []
-    loops = lk._compiled()
-    monkeypatch.setattr(lk, "_compiled", lambda: loops[:2] + tuple(
-        (lambda *a, f=f, i=i: blocks.append((i, a[-1])) or f(*a)) for i, f in enumerate(loops[2:])))
-    monkeypatch.setattr(sk, "PARALLEL_MIN", 0)  # every call on the threads, however small
-    compiled_k = sk._compiled
-
-    def counted(kind, r):  # the serial loop, and the parallel one recording its blocks
-        serial, par = compiled_k(kind, r)
-        return serial, lambda *a: blocks.append((kind, a[-1])) or par(*a)
-
-    monkeypatch.setattr(sk, "_compiled", counted)
-    two = simulate_batch(zb, sc, kernel="numba", **kw)
-    # the taps and the fused steps, each in two blocks
-    assert set(blocks) == {("tap", 2), ("acc", 2), ("scan", 2)} | ({(0, 2)} if dt == 1e-3 else set())
-    for name in ("x", "y", "x_hat"):
-        assert np.array_equal(getattr(one, name), getattr(two, name)), name
-    for name in METRICS:
-        assert np.array_equal(one.metrics[name], two.metrics[name], equal_nan=True), name
-    ref = simulate_batch(zb, sc, kernel="python", **kw)
-    assert np.max(np.abs(two.x_hat - ref.x_hat)) <= 1e-12 * np.max(np.abs(ref.x_hat))
-
-
-@needs_numba
-def test_time_major_loops_do_not_depend_on_the_thread_count(monkeypatch):
+def test_time_major_loops_equal_numpy():
     """The time-major compiled loops (linear_kernel.tap_sum, scan_rows: the forcing of observers with an
-    injection term, linear observers without the cubic forcing) on two blocks of scenarios:
-    bit-identical to one block, and equal to numpy (uio_ring.sim._blocks) to 1e-12."""
-    import numba
-
+    injection term, linear observers without the cubic forcing) equal numpy (uio_ring.sim._blocks) to
+    1e-12, and each scenario's numbers do not depend on the others (a range of scenarios alone:
+    bit-identical)."""
     import uio_ring.numeric.linear_kernel as lk
     from uio_ring.sim._blocks import scan_rows, taps
 
-    if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
-        pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
     rng = np.random.default_rng(8)
     K, L = 37, 40
     S, M = rng.normal(size=(L + 20, K, 3)), rng.normal(size=(3, 3, 5))
     PhiT, x0, G = 0.3 * rng.normal(size=(5, 5)), rng.normal(size=(K, 5)), rng.normal(size=(L, K, 5))
     starts = np.array([20, 10, 0])
-    runs = []
-    for threads in ("1", "2"):
-        monkeypatch.setenv(lk.THREADS_ENV, threads)
-        assert lk.chunks(K) == int(threads)
-        runs.append((lk.tap_sum(S, starts, M, np.empty((L, K, 5))), lk.scan_rows(PhiT, x0, G.copy())))
-    for a, b in zip(*runs, strict=True):
-        assert np.array_equal(a, b)
+    t_all, s_all = lk.tap_sum(S, starts, M, np.empty((L, K, 5))), lk.scan_rows(PhiT, x0, G.copy())
+    t_part = lk.tap_sum(np.ascontiguousarray(S[:, 19:]), starts, M, np.empty((L, K - 19, 5)))
+    s_part = lk.scan_rows(PhiT, x0[19:], np.ascontiguousarray(G[:, 19:]))
+    assert np.array_equal(t_all[:, 19:], t_part) and np.array_equal(s_all[:, 19:], s_part)
     ref_t = taps([S[s : s + L] for s in starts], list(M)).reshape(L, K, 5)
     ref_s = scan_rows(PhiT, x0, G.copy())
-    assert np.max(np.abs(runs[1][0] - ref_t)) <= 1e-12 * np.max(np.abs(ref_t))
-    assert np.max(np.abs(runs[1][1] - ref_s)) <= 1e-12 * np.max(np.abs(ref_s))
-
-
-@needs_numba
-def test_thread_count_respects_the_limits(monkeypatch):
-    """Never more threads than numba may use nor than the cores; a bad value is an error."""
-    import numba
-
-    import uio_ring.numeric.linear_kernel as lk
-
-    monkeypatch.setenv(lk.THREADS_ENV, "64")
-    assert lk.threads() == min(64, numba.get_num_threads(), os.cpu_count() or 1)
-    assert lk.chunks(15) == 1  # fewer than MIN_CHUNK scenarios per block: one block
-    numba.set_num_threads(1)
-    try:
-        assert lk.threads() == 1
-    finally:
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-    for bad in ("0", "two", "-1"):
-        monkeypatch.setenv(lk.THREADS_ENV, bad)
-        with pytest.raises(SimulationError, match="UIO_RING_THREADS"):
-            lk.threads()
+    assert np.max(np.abs(t_all - ref_t)) <= 1e-12 * np.max(np.abs(ref_t))
+    assert np.max(np.abs(s_all - ref_s)) <= 1e-12 * np.max(np.abs(ref_s))

@@ -4,7 +4,6 @@ and the batch's linear-observer path built on them (uio_ring.sim.batch_linear) a
 from __future__ import annotations
 
 import importlib.util
-import os
 import sys
 
 import numpy as np
@@ -79,32 +78,6 @@ def test_stencil_scan_k_equals_the_recursion(n, K):
         x = Phi @ x + F[s]
         ref[s] = x
     assert np.max(np.abs(out - ref)) <= 1e-12 * np.max(np.abs(ref))
-
-
-@needs_numba
-def test_scenario_loops_do_not_depend_on_the_thread_count(monkeypatch):
-    """Two ranges of scenarios on two threads: bit-identical to one (the same operations per scenario)."""
-    import numba
-
-    import uio_ring.numeric.linear_kernel as lk
-    import uio_ring.numeric.scenario_kernel as sk
-    from uio_ring.numeric.scenario_kernel import stencil_scan_k, tap_pairs, tap_sum_k
-
-    if min(numba.get_num_threads(), os.cpu_count() or 1) < 2:
-        pytest.skip("one core (or NUMBA_NUM_THREADS=1): no second thread")
-    monkeypatch.setattr(sk, "PARALLEL_MIN", 0)
-    rng = np.random.default_rng(1)
-    K, n = 45, 6
-    W, S, x0 = _stack(rng, 4, n, n, 0.9), rng.normal(size=(40, n, K)), rng.normal(size=(n, K))
-    Phi = 0.3 * rng.normal(size=(n, n))
-    runs = []
-    for threads in ("1", "2"):
-        monkeypatch.setenv(lk.THREADS_ENV, threads)
-        assert lk.chunks(K) == int(threads)
-        runs.append((tap_sum_k(S, np.arange(4), tap_pairs(W), np.empty((30, n, K))),
-                     stencil_scan_k(S, np.arange(4), tap_pairs(W), Phi.T, x0, np.empty((30, n, K)))))
-    for a, b in zip(*runs, strict=True):
-        assert np.array_equal(a, b)
 
 
 def _w(a):

@@ -14,9 +14,9 @@ implementations: the Python one (numpy; always there) and a compiled one
 The same switch selects the compiled linear loops of ``simulate_batch``
 (:mod:`uio_ring.numeric.scenario_kernel`: the plant's and a linear observer's taps and
 recursions, scenario-innermost; :mod:`uio_ring.numeric.linear_kernel`: other observers' taps,
-time-major) and its metrics (:mod:`uio_ring.numeric.metrics_kernel`); the linear loops run on
-``UIO_RING_THREADS`` threads (default 1; at most numba's thread limit and the cores), blocks of
-scenarios per thread, with the same numbers for any thread count.
+time-major) and its metrics (:mod:`uio_ring.numeric.metrics_kernel`).  Threads
+(``UIO_RING_THREADS``, default 1) run whole chunks of a batch's scenarios
+(:func:`uio_ring.sim.batch.chunk_bounds`), with the same numbers for any thread count.
 
 ``"numba"`` asked for explicitly without numba installed is an error naming the extra.
 The two backends agree up to rounding (the sliding modes amplify last-bit differences).

@@ -14,10 +14,9 @@ instead: :mod:`uio_ring.numeric.scenario_kernel`; these loops serve the forcing 
 with an injection term and the recursion of linear observers without the cubic forcing.)
 
 The scenarios are the innermost loop (independent sums, which pipeline and vectorise);
-zero coefficients are skipped (so a 0 · ∞ of a diverged run is not a NaN here).
-With ``UIO_RING_THREADS=2`` (:func:`threads`) the scenarios are cut into contiguous blocks,
-one per thread (``prange``); each scenario is computed by the same operations in any block,
-so the numbers do not depend on the number of threads.
+zero coefficients are skipped (so a 0 · ∞ of a diverged run is not a NaN here).  The loops
+run on the calling thread (threads: whole chunks of scenarios,
+:func:`uio_ring.sim.batch.simulate_batch` with ``UIO_RING_THREADS``).
 
 The numpy versions (:func:`uio_ring.sim._blocks.taps`, :func:`uio_ring.sim._blocks.scan_rows`)
 are the reference; the two agree up to rounding (summation order).  Selected by the
@@ -36,16 +35,12 @@ imported on the first call, the loops cached on disk (``cache=True``).
 from __future__ import annotations
 
 import functools
+import threading
 from typing import Any
 
 import numpy as np
 
-__all__ = ["tap_sum", "scan_rows", "threads", "THREADS_ENV"]
-
-#: Fewest scenarios per thread (below, the threads' hand-over costs more than the work).
-MIN_CHUNK = 16
-#: The environment variable with the threads of the compiled linear loops (default 1).
-THREADS_ENV = "UIO_RING_THREADS"
+__all__ = ["tap_sum", "scan_rows"]
 
 
 def tap_sum(S: np.ndarray, starts: np.ndarray, M: np.ndarray, out: np.ndarray) -> np.ndarray:
@@ -67,76 +62,29 @@ def scan_rows(PhiT: np.ndarray, x0: np.ndarray, G: np.ndarray) -> np.ndarray:
     return G
 
 
-def threads() -> int:
-    """Threads of the compiled linear loops: ``$UIO_RING_THREADS`` (default 1), never more than numba
-    may use (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``) nor than the machine's cores.
-
-    One thread by default: measured on two cores that other jobs keep busy, a second thread
-    waits for its core at every hand-over and the loops run 2–10× slower.
-
-    >>> import os
-    >>> os.environ.pop(THREADS_ENV, None) and None
-    >>> threads()
-    1
-    """
-    import os
-
-    from uio_ring.errors import SimulationError
-
-    raw = os.environ.get(THREADS_ENV, "").strip() or "1"
-    if not raw.isdigit() or int(raw) < 1:
-        raise SimulationError(f"{THREADS_ENV}={raw!r}: expected a positive integer")
-    if int(raw) == 1:
-        return 1
-    from uio_ring.errors import require
-
-    numba = require("numba", extra="fast")
-    return max(1, min(int(raw), numba.get_num_threads(), os.cpu_count() or 1))
-
-
-def chunks(K: int) -> int:
-    """Blocks of scenarios of K columns: one per thread (:func:`threads`), each of at least
-    :data:`MIN_CHUNK` scenarios.
-
-    >>> chunks(1), chunks(16)
-    (1, 1)
-    """
-    return max(1, min(threads(), K // MIN_CHUNK))
+_COMPILE_LOCK = threading.Lock()
 
 
 def _run(which: int, *args: np.ndarray) -> None:
-    """Loop ``which`` (0: taps, 1: scan) over the K scenarios (axis 1 of the
-    last array): one call, or one call per block of scenarios on numba's threads (:func:`chunks`)."""
-    loops = _compiled()
-    K = args[-1].shape[1]
-    nc = chunks(K)
-    if nc == 1:
-        loops[which](*args)
-    else:
-        loops[2 + which](*args, nc)
+    """Loop ``which`` (0: taps, 1: scan) over the K scenarios."""
+    with _COMPILE_LOCK:  # chunks of a batch on threads: one compilation
+        loops = _compiled()
+    loops[which](*args)
 
 
 @functools.cache
 def _compiled() -> tuple[Any, ...]:
-    """The two loops, then the two loops over blocks of scenarios in parallel."""
+    """The two loops."""
     from uio_ring.errors import require
 
     numba = require("numba", extra="fast")
-    globals()["prange"] = numba.prange  # the blocks of scenarios in parallel (in Python: range)
     jit = numba.njit(cache=True, nogil=True)
-    tap, scan = jit(_tap_loop), jit(_scan_loop)
-    par = numba.njit(nogil=True, parallel=True)  # closures over the loops: compiled once per process
-    return tap, scan, par(_tap_blocks(tap)), par(_scan_blocks(scan))
-
-
-prange = range
+    return jit(_tap_loop), jit(_scan_loop)
 
 
 # The loops below are compiled by numba (nopython mode): plain loops over plain arrays, the
 # scenarios innermost (independent sums over K rows: they pipeline and vectorise, where sums
-# over a handful of columns would wait on each other; measured 2× on paper 001's taps).  On
-# several threads each gets a view of its block of scenarios (indexing with an offset instead
-# measured 1.35× slower: the offset defeats the vectorisation).
+# over a handful of columns would wait on each other; measured 2× on paper 001's taps).
 def _tap_loop(S, starts, M, out):  # pragma: no cover
     L, K, r = out.shape
     m, c = M.shape[0], M.shape[1]
@@ -179,29 +127,3 @@ def _scan_loop(PhiT, x0, G):  # pragma: no cover
             for k in range(K):
                 x[j, k] = acc[j, k]
                 G[s, k, j] = acc[j, k]
-
-
-def _tap_blocks(tap):  # pragma: no cover
-    """:func:`_tap_loop` over ``nchunks`` contiguous blocks of the K scenarios, in parallel."""
-
-    def run(S, starts, M, out, nchunks):
-        K = out.shape[1]
-        size = (K + nchunks - 1) // nchunks
-        for ch in prange(nchunks):
-            k0, k1 = ch * size, min(K, ch * size + size)
-            tap(S[:, k0:k1], starts, M, out[:, k0:k1])
-
-    return run
-
-
-def _scan_blocks(scan):  # pragma: no cover
-    """:func:`_scan_loop` over ``nchunks`` contiguous blocks of the K scenarios, in parallel."""
-
-    def run(PhiT, x0, G, nchunks):
-        K = G.shape[1]
-        size = (K + nchunks - 1) // nchunks
-        for ch in prange(nchunks):
-            k0, k1 = ch * size, min(K, ch * size + size)
-            scan(PhiT, x0[k0:k1], G[:, k0:k1])
-
-    return run

@@ -17,11 +17,11 @@ taps).  The r outputs are held in r row views, so the loop body is generated for
   pass (a linear observer's stencil forcing and steps; the forcing is never stored).
 
 Complexity: ``O(L · P · r · K)`` for P nonzero coefficient rows (plus ``O(L n² K)`` for the
-recursion); memory: the output only.  With ``UIO_RING_THREADS=2``
-(:func:`uio_ring.numeric.linear_kernel.chunks`) the scenarios of a call with at least
-:data:`PARALLEL_MIN` output values are cut into contiguous ranges, one per thread; each scenario is computed by the same operations in any range, so
-the numbers do not depend on the number of threads.  Without fastmath (no contraction,
-no reassociation) every value is the one of the plain loops, whatever the vectorisation.
+recursion); memory: the output only.  Each scenario is computed by the same operations
+whatever the range of scenarios of a call (threads: whole chunks of scenarios,
+:func:`uio_ring.sim.batch.simulate_batch` with ``UIO_RING_THREADS``).  Without fastmath (no
+contraction, no reassociation) every value is the one of the plain loops, whatever the
+vectorisation.
 
 The numpy reference is :func:`uio_ring.sim._blocks.taps` (time-major); the two agree up to
 rounding (summation order).
@@ -40,6 +40,7 @@ import hashlib
 import importlib.util
 import os
 import sys
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -121,20 +122,14 @@ def stencil_scan_k(S: np.ndarray, starts: np.ndarray, pairs: TapPairs, PhiT: np.
 
 
 def _run(kind: str, r: int, *args: np.ndarray) -> None:
-    """The loop ``kind`` for r outputs over the K scenarios (last axis of the last array): one
-    call, or one call per range of scenarios on numba's threads."""
-    from uio_ring.numeric.linear_kernel import chunks
-
+    """The loop ``kind`` for r outputs over the K scenarios (last axis of the last array)."""
     out = args[-1]
     K = out.shape[2]
     if K == 0 or out.shape[0] == 0:
         return
-    serial, parallel = _compiled(kind, r)
-    nc = chunks(K) if out.size >= PARALLEL_MIN else 1
-    if nc == 1:
-        serial(*args, 0, K)
-    else:
-        parallel(*args, nc)
+    with _COMPILE_LOCK:  # chunks of a batch on threads: one compilation
+        loop = _compiled(kind, r)
+    loop(*args, 0, K)
 
 
 def _pair_pass(r: int, srcs: list[str], weights: list[str], op: str) -> list[str]:
@@ -151,9 +146,7 @@ def _indent(lines: list[str], n: int) -> list[str]:
     return [" " * (4 * n) + s for s in lines]
 
 
-#: Fewest output values of a call run on several threads (a smaller one runs on one: the threads'
-#: hand-over costs 10–30 µs on idle cores, and up to a scheduler tick, 4 ms, on busy ones).
-PARALLEL_MIN = 1 << 16
+_COMPILE_LOCK = threading.Lock()
 
 #: Coefficient rows applied per pass over the outputs (their loads and stores shared).
 GROUP = 4
@@ -185,10 +178,6 @@ def _source(kind: str, r: int) -> str:
     if kind in ("tap", "acc"):
         head = "def loop(S, prow, pcol, W, out, k0, k1):"
         body = _RANGE + ["for l in range(out.shape[0]):"] + _indent(["o = out[l]"] + tap_body, 1)
-        par = ["def par(S, prow, pcol, W, out, nchunks):",
-               "    K = out.shape[2]", "    size = (K + nchunks - 1) // nchunks",
-               "    for ch in prange(nchunks):",
-               "        loop(S, prow, pcol, W, out, ch * size, min(K, ch * size + size))"]
     else:
         head = "def loop(S, prow, pcol, W, PhiT, x0, out, k0, k1):"
         step = ["prev = x0 if l == 0 else out[l - 1]", "q = 0", "while q + 1 < PhiT.shape[0]:"]  # Φ x, rows in pairs
@@ -196,18 +185,14 @@ def _source(kind: str, r: int) -> str:
                         + _pair_pass(r, ["xa", "xb"], ["PhiT[q", "PhiT[q + 1"], "+=") + ["q += 2"], 1)
         step += ["if q < PhiT.shape[0]:"] + _indent(["xa = prev[q]"] + _pair_pass(r, ["xa"], ["PhiT[q"], "+="), 1)
         body = _RANGE + ["for l in range(out.shape[0]):"] + _indent(["o = out[l]"] + tap_body + step, 1)
-        par = ["def par(S, prow, pcol, W, PhiT, x0, out, nchunks):",
-               "    K = out.shape[2]", "    size = (K + nchunks - 1) // nchunks",
-               "    for ch in prange(nchunks):",
-               "        loop(S, prow, pcol, W, PhiT, x0, out, ch * size, min(K, ch * size + size))"]
-    module = ["import numpy as np", "from numba import njit, prange", "",
+    module = ["import numpy as np", "from numba import njit", "",
               "", "@njit(nogil=True, cache=True)", head] + _indent(body, 1)
-    return "\n".join(module + ["", "", "@njit(nogil=True, parallel=True, cache=True)"] + par) + "\n"
+    return "\n".join(module) + "\n"
 
 
 @functools.cache
-def _compiled(kind: str, r: int) -> tuple[Any, Any]:
-    """The serial loop and its parallel driver for ``kind`` and r outputs, from their source
+def _compiled(kind: str, r: int) -> Any:
+    """The loop for ``kind`` and r outputs, from its source
     module (:func:`_module_path`: numba caches the compiled loops beside it, so a new process
     loads them instead of compiling)."""
     from uio_ring.errors import require
@@ -220,13 +205,13 @@ def _compiled(kind: str, r: int) -> tuple[Any, Any]:
     except OSError:  # no writable directory: compiled in this process only (numba cannot cache them)
         ns: dict[str, Any] = {"__name__": name}
         exec(compile(source.replace(", cache=True)", ")"), f"<{name}>", "exec"), ns)  # noqa: S102
-        return ns["loop"], ns["par"]
+        return ns["loop"]
     spec = importlib.util.spec_from_file_location(name, path)
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod  # importable by name: numba's cache reloads the loops' module by it
     spec.loader.exec_module(mod)
-    return mod.loop, mod.par
+    return mod.loop
 
 
 #: The environment variable with the directory of the generated loops' source modules (default:

@@ -11,7 +11,11 @@ duration of a run; without it, nothing changes (set ``OPENBLAS_NUM_THREADS=1``).
 from __future__ import annotations
 
 import contextlib
+import os
 from typing import Any
+
+#: The environment variable with the threads of a batch (default 1): :func:`batch_threads`.
+THREADS_ENV = "UIO_RING_THREADS"
 
 _CONTROLLER: Any = None
 
@@ -26,3 +30,21 @@ def blas_single_thread() -> Any:
     if _CONTROLLER is None:
         _CONTROLLER = ThreadpoolController()
     return _CONTROLLER.limit(limits=1, user_api="blas")
+
+
+def batch_threads() -> int:
+    """Threads of :func:`~uio_ring.sim.batch.simulate_batch`: ``$UIO_RING_THREADS`` (default 1),
+    never more than the machine's cores.  With n ≥ 2 the scenarios are cut into at least n
+    chunks run on n threads, whole chunks each (the compiled loops and numpy's large
+    operations release the GIL).
+
+    >>> os.environ.pop(THREADS_ENV, None) and None
+    >>> batch_threads()
+    1
+    """
+    from uio_ring.errors import SimulationError
+
+    raw = os.environ.get(THREADS_ENV, "").strip() or "1"
+    if not raw.isdigit() or int(raw) < 1:
+        raise SimulationError(f"{THREADS_ENV}={raw!r}: expected a positive integer")
+    return max(1, min(int(raw), os.cpu_count() or 1))

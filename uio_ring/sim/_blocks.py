@@ -31,6 +31,8 @@ O(m n²) of the sub-block maps, with S rows to carry each product's overhead.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
@@ -174,6 +176,7 @@ def _mm_stacked(X: np.ndarray, M: np.ndarray) -> np.ndarray:
 
 _CACHE: dict[tuple, BlockIntegrator] = {}
 _CACHE_SIZE = 8
+_CACHE_LOCK = threading.Lock()
 
 
 def block_integrator(A: np.ndarray, N: int, dt: float) -> BlockIntegrator:
@@ -183,9 +186,10 @@ def block_integrator(A: np.ndarray, N: int, dt: float) -> BlockIntegrator:
     integ = _CACHE.get(key)
     if integ is None:
         integ = StackedBlockIntegrator(A, N, dt) if A.ndim == 4 else BlockIntegrator(A, N, dt)
-        if len(_CACHE) >= _CACHE_SIZE:
-            _CACHE.pop(next(iter(_CACHE)))
-        _CACHE[key] = integ
+        with _CACHE_LOCK:  # chunks of a batch on threads
+            if len(_CACHE) >= _CACHE_SIZE:
+                _CACHE.pop(next(iter(_CACHE)))
+            _CACHE[key] = integ
     return integ
 
 
