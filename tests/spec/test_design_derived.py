@@ -102,3 +102,18 @@ def test_certificate_and_performance_are_computed_once_per_design(design):
     assert fresh.performance() is fresh.performance(h=fresh.system.h)
     assert fresh.performance(tolerance=1e-2) is not fresh.performance()
     assert dataclasses.replace(fresh).certified() is False  # the memo is per object
+
+
+def test_derivation_is_bounded_before_the_products():
+    """``derive_field`` refuses an Ō whose δ-degree would pass the parser's bound, and an l*
+    outside 1 … n, before multiplying."""
+    from uio_ring.design.delay_uio_design import DelayUIODesign
+    from uio_ring.ring.parse import MAX_DEGREE
+
+    C = PolyMatrix("[[d, 0]]")
+    A = PolyMatrix(f"[[0, d**{MAX_DEGREE}], [1, 0]]")
+    with pytest.raises(ValueError, match="δ-degree above"):
+        DelayUIODesign.derive_field("O", {"C_bar": C, "A_bar": A, "l_star": 2})
+    with pytest.raises(ValueError, match="l_star = 3 does not give"):
+        DelayUIODesign.derive_field("O", {"C_bar": C, "A_bar": A, "l_star": 3})
+    assert DelayUIODesign.derive_field("O", {"C_bar": C, "A_bar": A, "l_star": 1}) == C

@@ -164,7 +164,9 @@ class DelayUIODesign(ObserverDesign):
     @classmethod
     def derive_field(cls, name: str, fields: dict[str, Any]) -> Any:
         """``O`` from ``C_bar``, ``A_bar`` and ``l_star`` (:func:`krylov_matrix`); the caller
-        has checked their types.
+        has checked their types.  The work is bounded before it is done: ``1 ≤ l_star ≤ n``
+        (Cayley–Hamilton: the design's l* never exceeds n) and the δ-degree of Ō within the
+        parser's bound (``ValueError`` otherwise).
 
         >>> des = DelayUIODesign.derive_field("O", {"C_bar": PolyMatrix("[[1, 0]]"),
         ...                                         "A_bar": PolyMatrix("[[0, 1], [d, 0]]"), "l_star": 2})
@@ -174,8 +176,14 @@ class DelayUIODesign(ObserverDesign):
         if name != "O":
             raise KeyError(name)
         C_bar, A_bar, l_star = fields["C_bar"], fields["A_bar"], fields["l_star"]
-        if not (C_bar.cols == A_bar.rows == A_bar.cols) or l_star < 1:
-            raise ValueError(f"C_bar {C_bar.shape}, A_bar {A_bar.shape} and l_star = {l_star} do not make Ō_l*")
+        from uio_ring.ring.parse import MAX_DEGREE
+
+        if not (C_bar.cols == A_bar.rows == A_bar.cols):
+            raise ValueError(f"C_bar {C_bar.shape} and A_bar {A_bar.shape} do not make Ō_l*")
+        if not 1 <= l_star <= max(A_bar.cols, 1):
+            raise ValueError(f"l_star = {l_star} does not give Ō_l*: 1 ≤ l* ≤ n = {A_bar.cols}")
+        if (l_star - 1) * max(A_bar.degree(), 0) + max(C_bar.degree(), 0) > MAX_DEGREE:
+            raise ValueError(f"Ō would have δ-degree above {MAX_DEGREE}")
         return krylov_matrix(C_bar, A_bar, l_star)
 
     def numeric(self, *, h: Any = None) -> Any:

@@ -279,10 +279,8 @@ def design_from_data(data: Any) -> Any:
 def _derive(cls: type, name: str, raw: dict[str, Any], fields: dict[str, Any]) -> Any:
     """The derived field ``name`` recomputed from the decoded ``fields``: only a field the
     class declares derived, of a bounded shape, and the result must have that shape.  The
-    derivation is bounded too: a Krylov matrix ``Ō_l`` needs ``l ≤ n`` (Cayley–Hamilton;
-    the design's ``l*`` never exceeds it) and a δ-degree within the parser's bound."""
-    from uio_ring.ring.parse import MAX_DEGREE
-
+    class's ``derive_field`` bounds its own work before doing it (a Krylov matrix ``Ō_l``:
+    ``l ≤ n`` and a δ-degree within the parser's bound)."""
     where = f"fields.{name}"
     if name not in getattr(cls, "derived_fields", {}):
         raise SpecError(f"the field {name!r} of a {cls.__name__} is not derived: write its value", path=where)
@@ -290,21 +288,13 @@ def _derive(cls: type, name: str, raw: dict[str, Any], fields: dict[str, Any]) -
     if (not isinstance(shape, list) or len(shape) != 2
             or not all(isinstance(k, int) and not isinstance(k, bool) and 0 <= k <= MAX_DESIGN_DIMENSION for k in shape)):
         raise SpecError(f"shape {shape!r} is not two whole numbers in 0 … {MAX_DESIGN_DIMENSION}", path=where)
-    C_bar: Any = fields.get("C_bar")
-    A_bar: Any = fields.get("A_bar")
-    l: Any = fields.get("l_star")
-    if name == "O" and hasattr(C_bar, "shape") and hasattr(A_bar, "shape") and isinstance(l, int):
-        if not 1 <= l <= max(A_bar.cols, 1) or C_bar.rows * l != shape[0]:
-            raise SpecError(f"l_star = {l} does not give the {shape[0]} rows of Ō (r = {C_bar.rows}, n = {A_bar.cols})",
-                            path=where)
-        if (l - 1) * max(A_bar.degree(), 0) + max(C_bar.degree(), 0) > MAX_DEGREE:
-            raise SpecError(f"Ō would have δ-degree above {MAX_DEGREE}", path=where)
     try:
         value = cls.derive_field(name, fields)  # type: ignore[attr-defined]
     except (UioRingError, ValueError, KeyError, TypeError, AttributeError) as exc:
         raise SpecError(f"cannot derive {name} from the other fields ({exc})", path=where) from None
     if list(value.shape) != shape:
-        raise SpecError(f"the derived {name} is {value.shape[0]}×{value.shape[1]}, the file says {shape}", path=where)
+        raise SpecError(f"the derived {name} is {value.shape[0]}×{value.shape[1]}: it does not give the "
+                        f"{shape[0]} rows and {shape[1]} columns the file says", path=where)
     return value
 
 
