@@ -63,24 +63,3 @@ def test_options_of_another_method_are_refused():
         load_spec_text("system: {A: [[0]], B: [[1]], C: [[1]]}\ndesign: {method: normal-form, input_bounds: 1, poles: [-1]}\n")
     with pytest.raises(SpecError, match=r"design\.input_bounds: method 'normal-form' needs input_bounds"):
         load_spec_text("system: {A: [[0]], B: [[1]], C: [[1]]}\ndesign: {method: normal-form}\n")
-
-
-@pytest.mark.parametrize("name", ["zheng2015.yaml", "bejarano2007_example1.yaml"])
-def test_yaml_text_is_the_python_emitters_text(name):
-    """dump_yaml uses libyaml's emitter when PyYAML has it: the same text as PyYAML's own
-    emitter (the design files do not depend on how PyYAML was built)."""
-    from fractions import Fraction
-
-    import yaml
-
-    from uio_ring.spec.designs import design_to_data
-    from uio_ring.spec.yaml_io import _represent_fraction, dump_yaml
-
-    class PythonDumper(yaml.SafeDumper):
-        pass
-
-    PythonDumper.add_representer(Fraction, _represent_fraction)
-    spec = load_spec(Path(__file__).parents[2] / "examples" / name)
-    data = design_to_data(design_auto(spec.system, **spec.design.options).design)
-    want = yaml.dump(data, Dumper=PythonDumper, sort_keys=False, allow_unicode=True, width=100)
-    assert dump_yaml(data) == want

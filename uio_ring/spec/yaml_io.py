@@ -24,7 +24,6 @@
 from __future__ import annotations
 
 import re
-from fractions import Fraction
 from typing import Any
 
 import yaml
@@ -193,24 +192,11 @@ def load_yaml_text(text: str, *, max_bytes: int = MAX_BYTES) -> Any:
         raise SpecError(f"not valid YAML: {exc}") from exc
 
 
-def _represent_fraction(dumper: yaml.SafeDumper, value: Fraction) -> Any:
-    text = str(value.numerator) if value.denominator == 1 else f"{value.numerator}/{value.denominator}"
-    return dumper.represent_str(text)
+def dump_yaml(data: dict[str, Any]) -> str:
+    """YAML text of a mapping of plain data; Fractions are written as exact strings
+    (``1/3``), each list of scalars on one line (a matrix row per line).  See
+    :mod:`uio_ring.spec.yaml_writer` (PyYAML's representer took a second for a
+    design file of 240 000 scalars)."""
+    from uio_ring.spec.yaml_writer import dump_plain_yaml
 
-
-#: libyaml's emitter (in C) when PyYAML was built with it, else the Python one: the same
-#: text, and a design file of 100 MB (the 216-state observer of a 32-state system) is
-#: written in seconds instead of about a minute.
-_BaseDumper: Any = getattr(yaml, "CSafeDumper", yaml.SafeDumper)
-
-
-class _Dumper(_BaseDumper):  # type: ignore[misc,valid-type]
-    pass
-
-
-_Dumper.add_representer(Fraction, _represent_fraction)
-
-
-def dump_yaml(data: Any) -> str:
-    """YAML text of plain data; Fractions are written as exact strings (``'1/3'``)."""
-    return yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=100)
+    return dump_plain_yaml(data)
