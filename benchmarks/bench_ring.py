@@ -12,19 +12,32 @@ size, larger sizes of the same family are reported ``skipped (> budget)``.
 Times are the best CPU time (``time.process_time``) of up to ``--repeats`` runs
 (repeats stop after ~1 s): on a loaded machine wall time would measure the load.
 
-Output size (``deg/bits`` columns, for each output matrix: H, U, V, K, L, X)
+Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, X)
     max degree of the entries / max bit length of the integers of the primitive
     integer form of each row (the row times the lcm of its denominators, divided by
     the gcd of the resulting integers; so a row scaled by a constant has the same
-    size).  ``ours larger`` names the matrices where ours exceeds Sage's.
-    Expected entries there: ``U:bits`` / ``L:bits`` on tall matrices, because
-    ``hermite``'s U (and ``left_inverse``) is documented as reduced modulo the
-    Popov basis of the left kernel — the unique representative of least degree,
-    whatever algorithm computes it — while Sage returns its elimination transform
-    unreduced: about half the degree for more bits (tall 22×20: 14/161 against
-    29/44; reduced, Sage's U would be ours: two transforms differ by kernel rows).
-    Smith transforms are not unique: ours may have a few more degrees (``U:deg``)
-    with far fewer bits, or the reverse.  Both libraries' results are verified
+    size) / the sum of all those bit lengths in kbit.  ``ours larger`` names the
+    matrices where ours exceeds Sage's in any of the three.
+    Expected entries there:
+
+    * ``U:bits+total`` / ``L:bits+total`` on the tall family: ``hermite``'s U (and
+      ``left_inverse``) is reduced modulo the Popov basis of the left kernel — the
+      representative of least degree, whatever algorithm computes it — while Sage
+      returns its elimination transform unreduced: half the degree for more bits
+      (tall 22×20: ours 14/161/383k, Sage 29/44/117k).  Both at once is not to be
+      had: when deg L is below every minimal index (the kernel's row degrees), any
+      other left inverse L + Y·K has a larger degree (predictable degree property of
+      the row-reduced K), so L is the only left inverse of its degree — at 6×4, ours
+      is the only one of degree 1 (9 bits) and Sage's has degree 5 (5 bits).  We keep
+      least degree: in a delay observer the degree of a transform is the length of
+      history it needs (its delay taps), the bits only its exact text.
+    * Smith transforms are not unique: the two libraries split the work between U
+      and V differently (ours: U = the Hermite transform, V small; Sage: the reverse),
+      so one of ours may exceed Sage's (``U:bits`` by a few bits, or ``U:deg``) while
+      the pair is smaller (random 8×8: U + V 226 kbit against Sage's 539 kbit; smith
+      12×12: 208 against 11 736 kbit).
+
+    Both libraries' results are verified
     after timing (U·M = H, U·M·V = S with U, V unimodular, K·M = 0 with
     rows − rank rows, L·M = I, X·M = W), and H, S (rows made monic), det, rank
     and the row degrees of the kernel bases (the minimal indices) are compared
@@ -507,17 +520,19 @@ SETUP = {"ours": _setup_ours, "sympy": _setup_sympy, "sage": _setup_sage}
 Entries = list[list[list[tuple[int, int]]]]  # rows of entries; an entry: (num, den) low to high
 
 
-def matrix_size(A: Entries) -> tuple[int, int]:
-    """(max degree, max bit length) of a polynomial matrix over Q[δ].
+def matrix_size(A: Entries) -> tuple[int, int, int]:
+    """(max degree, max bit length, total bit length) of a polynomial matrix over Q[δ].
 
     Bits are those of the primitive integer form of each row: the row times the
     lcm of its denominators, divided by the gcd of the resulting integers — a
-    size that does not depend on how a library scales a row by a constant.
+    size that does not depend on how a library scales a row by a constant.  The
+    total is the sum of the bit lengths of all those integers (what storing the
+    matrix costs, up to the row scales).
 
     >>> matrix_size([[[(1, 2), (3, 4)], []], [[(5, 1)], [(0, 1), (0, 1), (7, 1)]]])
-    (2, 3)
+    (2, 3, 10)
     """
-    deg, bits = -1, 0
+    deg, bits, total = -1, 0, 0
     for row in A:
         den = 1
         for e in row:
@@ -528,9 +543,11 @@ def matrix_size(A: Entries) -> tuple[int, int]:
         for x in ints:
             g = math.gcd(g, x)
         if g:
-            bits = max(bits, max(abs(x // g).bit_length() for x in ints))
+            lengths = [abs(x // g).bit_length() for x in ints]
+            bits = max(bits, max(lengths))
+            total += sum(lengths)
         deg = max(deg, max((len(e) - 1 for e in row), default=-1))
-    return deg, bits
+    return deg, bits, total
 
 
 def _digest(A: Entries) -> str:
@@ -796,22 +813,30 @@ def _ratio(other: Any, ours: Any) -> str:
     return ""
 
 
-def _sizes(v: Any) -> dict[str, tuple[int, int]]:
+Size = tuple[int, int, int]
+
+
+def _sizes(v: Any) -> dict[str, Size]:
     return {k: tuple(x) for k, x in v.get("size", {}).items()} if isinstance(v, dict) else {}
 
 
-def _fmt_size(sizes: dict[str, tuple[int, int]]) -> str:
-    """``U 5/41``: max degree / max bits (primitive rows) of each output matrix."""
-    return " ".join(f"{k} {d}/{b}" for k, (d, b) in sizes.items())
+def _fmt_size(sizes: dict[str, Size]) -> str:
+    """``U 5/41/3k``: max degree / max bits (primitive rows) / total kbit of each output matrix."""
+    return " ".join(f"{k} {d}/{b}/{_kbit(t)}" for k, (d, b, t) in sizes.items())
 
 
-def _larger(ours: dict[str, tuple[int, int]], other: dict[str, tuple[int, int]]) -> str:
-    """The output matrices where ours is larger than the other library's (degree or bits)."""
+def _kbit(t: int) -> str:
+    return f"{t / 1000:.0f}k" if t >= 1000 else f"{t / 1000:.1f}k"
+
+
+def _larger(ours: dict[str, Size], other: dict[str, Size]) -> str:
+    """The output matrices where ours is larger than the other library's: in max degree,
+    max bits or total bits (``U:bits+total``)."""
     out = []
-    for k, (d, b) in ours.items():
+    for k, (d, b, t) in ours.items():
         if k in other:
-            od, ob = other[k]
-            what = ("deg" if d > od else "") + ("+" if d > od and b > ob else "") + ("bits" if b > ob else "")
+            od, ob, ot = other[k]
+            what = "+".join(name for name, worse in (("deg", d > od), ("bits", b > ob), ("total", t > ot)) if worse)
             if what:
                 out.append(f"{k}:{what}")
     return " ".join(out) or "-"
@@ -881,9 +906,9 @@ def main(argv: list[str] | None = None) -> int:
         header += ["sympy [s]", "sympy/ours"]
     if "sage" in libs:
         header += ["sage [s]", "sage/ours"]
-    header += ["ours deg/bits"]
+    header += ["ours deg/bits/total"]
     if "sage" in libs:
-        header += ["sage deg/bits", "ours larger"]
+        header += ["sage deg/bits/total", "ours larger"]
     rows: list[list[str]] = []
     mismatches: list[str] = []
     unverified: list[str] = []
@@ -984,7 +1009,7 @@ def _print_rows(header: list[str], rows: list[list[str]]) -> None:
     widths[0], widths[1], widths[2], widths[3] = 9, 3, 6, 18
     for i, h in enumerate(header):
         if "deg/bits" in h:
-            widths[i] = 22
+            widths[i] = 30
     if not _printed_header:
         print("  ".join(h.ljust(w) for h, w in zip(header, widths, strict=True)))
         print("  ".join("-" * w for w in widths))

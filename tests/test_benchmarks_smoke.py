@@ -71,7 +71,7 @@ def test_matrix_size_is_invariant_under_row_scaling():
     br = _bench_module()
     row = [[(1, 2), (3, 4)], [(5, 6)]]
     scaled = [[(7 * p, 3 * q) for p, q in e] for e in row]
-    assert br.matrix_size([row]) == br.matrix_size([scaled]) == (1, 4)  # 6, 9, 10 after scaling by 12
+    assert br.matrix_size([row]) == br.matrix_size([scaled]) == (1, 4, 11)  # 6, 9, 10 after scaling by 12: 3 + 4 + 4 bits
 
 
 def test_sage_required_but_missing_exits_2(tmp_path):
