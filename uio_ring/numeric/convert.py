@@ -60,11 +60,14 @@ _CACHE_SIZE = 256
 def _from_lists(M: Any) -> np.ndarray:
     rows, cols = M.shape
     lists = M.coefficient_lists()
-    arr = np.zeros((len(lists), rows, cols))
-    for k, coeff in enumerate(lists):
-        for i, row in enumerate(coeff):
-            for j, c in enumerate(row):
-                arr[k, i, j] = exact_to_float(c, f"a coefficient of δ^{k} at ({i}, {j})")
+    try:  # numpy calls float() on each Fraction: correctly rounded, as exact_to_float
+        arr = np.array(lists, dtype=object).reshape(len(lists), rows, cols).astype(float)
+    except OverflowError:  # find and name the coefficient beyond float64
+        arr = np.zeros((len(lists), rows, cols))
+        for k, coeff in enumerate(lists):
+            for i, row in enumerate(coeff):
+                for j, c in enumerate(row):
+                    arr[k, i, j] = exact_to_float(c, f"a coefficient of δ^{k} at ({i}, {j})")
     out = _trim(arr, "matrix")
     out.setflags(write=False)
     return out
