@@ -7,13 +7,29 @@ tiny prime, where rank drops modulo p are common, the modular path may give up
 
 from __future__ import annotations
 
+import flint
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from uio_ring.ring import PolyMatrix
+from uio_ring.ring import PolyMatrix, _kernel_basis
 from uio_ring.ring import _dense as dn
-from uio_ring.ring._kernel_basis import _exact_generators, _integer_coefficients, _toeplitz_entries
-from uio_ring.ring._kernel_lead import generators_by_lead_solve, pivot_columns_mod_p
+from uio_ring.ring._evaluation import minor_degree_bound
+from uio_ring.ring._kernel_basis import (
+    ToeplitzCoefficients,
+    _exact_generators,
+    _generator_degree_mod_p,
+    _integer_coefficients,
+    _toeplitz_entries,
+    popov_left_kernel,
+)
+from uio_ring.ring._kernel_lead import (
+    PRIME,
+    generators_by_lead_solve,
+    pivot_columns_mod_p,
+    solve_square,
+)
+from uio_ring.ring.kernel import left_kernel_by_elimination
 
 from .strategies import matrices
 
@@ -57,3 +73,123 @@ def test_pivot_columns_mod_p():
     assert pivot_columns_mod_p([3, 1], 1, 2, 3) == [1]
     assert pivot_columns_mod_p([0, 0], 1, 2) == []
 
+
+
+# ----------------------------------------------------------------------------
+# the degree probe of popov_left_kernel, precomputed pivots, the square solve
+# ----------------------------------------------------------------------------
+def _generators_at(M: PolyMatrix, D: int, pivots: list[int]):
+    m, n = M.shape
+    dm = max(dn.mat_degree(M._r), 0)
+    full = _toeplitz_entries(_integer_coefficients(M._r, m, n), m, n, dm, D, None)
+    return generators_by_lead_solve(full, n * (D + dm + 1), m * (D + 1), m, pivots=pivots)
+
+
+@settings(max_examples=200)
+@given(matrices(min_rows=1, min_cols=1), st.integers(0, 2), st.data())
+def test_lead_solve_with_wrong_pivots_is_right_or_gives_up(M, D, data):
+    """A pivot list that is not the rank profile: with one pivot dropped the certificate
+    fails or still gives the exact generators — never other vectors; with a dependent
+    column added no square nonsingular system exists (None), or no generator is left and
+    some are missed: a genuine profile is a precondition, and the caller's count of
+    m − rank M generators notices missing ones."""
+    m, n = M.shape
+    dm = max(dn.mat_degree(M._r), 0)
+    mi = _integer_coefficients(M._r, m, n)
+    full = _toeplitz_entries(mi, m, n, dm, D, None)
+    rows, cols = n * (D + dm + 1), m * (D + 1)
+    pivots = pivot_columns_mod_p(full, rows, cols)
+    assert _generators_at(M, D, pivots) == _exact_generators(mi, m, n, dm, D)
+    if pivots and data.draw(st.booleans()):
+        wrong = list(pivots)
+        del wrong[data.draw(st.integers(0, len(wrong) - 1))]
+        got = _generators_at(M, D, wrong)
+        assert got is None or got == _exact_generators(mi, m, n, dm, D)
+    extra = [c for c in range(cols) if c not in pivots]
+    if extra:
+        got = _generators_at(M, D, sorted([*pivots, data.draw(st.sampled_from(extra))]))
+        exact = _exact_generators(mi, m, n, dm, D)
+        assert got is None or all(g in exact for g in got)
+
+
+def _krylov(C: PolyMatrix, A: PolyMatrix, blocks: int) -> PolyMatrix:
+    rows = [C]
+    for _ in range(blocks - 1):
+        rows.append(rows[-1] @ A)
+    return PolyMatrix.vstack(*rows)
+
+
+def test_probe_finds_a_constant_kernel_below_the_start_degree():
+    """M = [N; R·N] with R constant has the constant Popov kernel [−R, I] (as the
+    observability matrix of a 32-state design has): the probe looks at D' = 0 although
+    the minor bound starts at D ≥ 1, and the basis equals the elimination one."""
+    N = PolyMatrix("[[d**2, 1, 0], [0, d + 1, d**2], [1, 0, 2*d**2 - 1]]")
+    R = PolyMatrix("[[1, 2, 0], [0, -1, 3], [5, 0, 1]]")
+    M = PolyMatrix.vstack(N, R @ N)
+    m, n = M.shape
+    coeffs = ToeplitzCoefficients.of(M._r, m, n)
+    k = m - M.rank()
+    bound = minor_degree_bound(M._r, m, n, M.rank())
+    D = -(-bound // k)
+    d_use, pivots = _generator_degree_mod_p(coeffs.residues, m, n, coeffs.dm, D, k)
+    assert D >= 1
+    assert d_use == 0 and pivots == pivot_columns_mod_p(
+        _toeplitz_entries(coeffs.mi, m, n, coeffs.dm, 0, None), n * (coeffs.dm + 1), m)
+    K = popov_left_kernel(M._r, m, n, min_rows=0)
+    assert K is not None
+    assert PolyMatrix._new(K, len(K), m, M.var) == left_kernel_by_elimination(M)
+    assert PolyMatrix._new(K, len(K), m, M.var) == PolyMatrix.hstack(-R, PolyMatrix.identity(3))
+
+
+@settings(max_examples=30)
+@given(st.integers(1, 3), st.integers(2, 4), st.integers(0, 10**6))
+def test_probe_kernel_of_krylov_matrices_equals_elimination(r, n, seed):
+    import random
+
+    rng = random.Random(seed)
+    A = PolyMatrix([[f"{rng.randint(-3, 3)}*d + {rng.randint(-3, 3)}" for _ in range(n)] for _ in range(n)])
+    C = PolyMatrix([[str(rng.randint(-2, 2)) for _ in range(n)] for _ in range(r)])
+    M = _krylov(C, A, n + 2)
+    K = popov_left_kernel(M._r, *M.shape, min_rows=0)
+    assert K is not None
+    assert PolyMatrix._new(K, len(K), M.rows, M.var) == left_kernel_by_elimination(M)
+
+
+def test_probe_falls_back_when_the_lead_solve_gives_up(monkeypatch):
+    """An unlucky prime at D' (simulated: the lead solve returns None) falls back to the
+    fraction-free nullspace at the start degree: same basis."""
+    N = PolyMatrix("[[d**2, 1, 0], [0, d + 1, d**2], [1, 0, 2*d**2 - 1]]")
+    M = PolyMatrix.vstack(N, PolyMatrix("[[1, 2, 0], [0, -1, 3], [5, 0, 1]]") @ N)
+    want = popov_left_kernel(M._r, *M.shape, min_rows=0)
+    monkeypatch.setattr(_kernel_basis, "generators_by_lead_solve", lambda *a, **k: None)
+    assert popov_left_kernel(M._r, *M.shape, min_rows=0) == want
+
+
+def test_toeplitz_coefficients_residues():
+    M = PolyMatrix("[[-1/2, d/3], [d**2 - 7, 2*d/3]]")
+    c = ToeplitzCoefficients.of(M._r, 2, 2)
+    assert c.mi == _integer_coefficients(M._r, 2, 2) and c.dm == 2
+    assert all(0 <= x < PRIME and (x - y) % PRIME == 0
+               for ra, rb in zip(c.residues, c.mi, strict=True) for a, b in zip(ra, rb, strict=True)
+               for x, y in zip(a, b, strict=True))
+
+
+@given(st.integers(1, 20), st.integers(1, 4), st.integers(0, 10**6))
+def test_solve_square_equals_the_rational_solve(n, k, seed):
+    import random
+
+    rng = random.Random(seed)
+    a = flint.fmpz_mat(n, n, [rng.randint(-2**70, 2**70) for _ in range(n * n)])
+    b = flint.fmpz_mat(n, k, [rng.randint(-9, 9) for _ in range(n * k)])
+    if a.det() == 0:
+        with pytest.raises(ZeroDivisionError):
+            solve_square(a, b)
+        return
+    x = solve_square(a, b)
+    assert x == flint.fmpq_mat(a).solve(flint.fmpq_mat(b))
+    assert flint.fmpq_mat(a) * x == flint.fmpq_mat(b)
+
+
+def test_solve_square_singular():
+    with pytest.raises(ZeroDivisionError):
+        solve_square(flint.fmpz_mat([[1, 2], [2, 4]]), flint.fmpz_mat([[1], [1]]))

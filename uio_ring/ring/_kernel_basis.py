@@ -30,7 +30,8 @@ Toeplitz nullity sequence gives the minimal indices — Beelen & Van Dooren,
 "A pencil approach for embedding a polynomial matrix into a unimodular
 matrix", SIAM J. Matrix Anal. Appl. 9 (1988)).  Cost: one rank profile modulo p of
 the (n·(D + deg M + 1)) × (m·(D + 1)) Toeplitz matrix, O(N³) word operations with
-N = m·(D + 1), and one square solve over Z by p-adic lifting (Dixon 1982); for a tall
+N = m·(D + 1), and one square solve over Z (multimodular, in C:
+:func:`~uio_ring.ring._kernel_lead.solve_square`); for a tall
 (n+4)×n matrix of degree 2 the minimal indices are ≈ n/2, so N ≈ n²/2.  When
 N would exceed :data:`MAX_UNKNOWNS`, or M has fewer than :data:`TOEPLITZ_MIN_ROWS`
 rows, the callers use elimination instead.
@@ -44,15 +45,22 @@ rank M < rows, tall left inverses, ``solve_left`` for tall V.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
-from uio_ring.ring._kernel_lead import generators_by_lead_solve, pivot_columns_mod_p
+from uio_ring.ring._kernel_lead import (
+    PRIME,
+    generators_by_lead_solve,
+    pivot_columns_mod_p,
+    solve_square,
+)
 from uio_ring.ring._predicates import rank_raw
 
-__all__ = ["popov_left_kernel", "solve_reduced", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
+__all__ = ["popov_left_kernel", "solve_reduced", "ToeplitzCoefficients", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
 
 #: Largest Toeplitz system (number of unknowns m·(D + 1)) tried; beyond it the
 #: elimination path is used.
@@ -67,8 +75,33 @@ IntCoeffs = list[list[list[int]]]  # [row j][column l] -> integer coefficients, 
 def _integer_coefficients(a: dn.Rows, m: int, n: int) -> IntCoeffs:
     """Coefficients of M·diag(c) with c_l the lcm of the denominators in column l
     (same left kernel as M).  Precondition: shape m×n (not checked)."""
-    scale = _column_scale(a, m, n)
-    return [[[int(x) for x in (a[j][col] * scale[col]).numer().coeffs()] for col in range(n)] for j in range(m)]
+    return ToeplitzCoefficients.of(a, m, n).mi
+
+
+@dataclass
+class ToeplitzCoefficients:
+    """The integer coefficients of M·diag(c) (:func:`_integer_coefficients`), the column
+    scales c and, on demand, the coefficients modulo the word prime: computed once for
+    the kernel and the solve of the same M (:func:`uio_ring.ring.solve.solve_left`)."""
+
+    mi: IntCoeffs
+    scale: list[flint.fmpz]
+    dm: int
+    _residues: IntCoeffs | None = None
+
+    @classmethod
+    def of(cls, a: dn.Rows, m: int, n: int) -> ToeplitzCoefficients:
+        """Precondition: shape m×n (not checked)."""
+        scale = _column_scale(a, m, n)
+        mi = [[[int(x) for x in (a[j][col] * scale[col]).numer().coeffs()] for col in range(n)] for j in range(m)]
+        return cls(mi, scale, max(dn.mat_degree(a), 0))
+
+    @property
+    def residues(self) -> IntCoeffs:
+        """``mi`` modulo :data:`~uio_ring.ring._kernel_lead.PRIME`, entries in [0, p)."""
+        if self._residues is None:
+            self._residues = [[[c % PRIME for c in cs] for cs in row] for row in self.mi]
+        return self._residues
 
 
 def _column_scale(a: dn.Rows, m: int, n: int) -> list[flint.fmpz]:
@@ -129,13 +162,49 @@ def _exact_generators(
     return [(idx, [flint.fmpq(red[v, cols - 1 - c]) / qden for c in range(cols)]) for idx, v in chosen]
 
 
+def _generator_degree_mod_p(
+    residues: IntCoeffs, m: int, n: int, dm: int, D: int, k: int
+) -> tuple[int, list[int]]:
+    """``(D', pivots)``: the degree bound D' ≤ D at which the exact generators are sought,
+    and the column rank profile modulo :data:`~uio_ring.ring._kernel_lead.PRIME` of
+    ``T_D'`` (``residues``: the coefficients of M modulo p).
+
+    The profiles of ``T_0, T_1, T_3, …`` (below D), then of ``T_D``, are computed until
+    one has k generators (as many as Popov rows over Q): D' is then the greatest degree
+    among them — the profile of ``T_D'`` is the part of that profile on its first
+    m·(D' + 1) columns (those columns vanish outside the rows of ``T_D'``, and a column
+    is a pivot iff it is not a combination of the columns before it).  Otherwise D' = D.
+    D' is only a choice of where to look: the generators at D' are certified exactly
+    (:func:`~uio_ring.ring._kernel_lead.generators_by_lead_solve`; an unlucky prime
+    fails that certificate), so the basis does not depend on it.  (The 216×32
+    observability matrix of degree 23 of a 32-state design has a constant kernel basis:
+    D' = 0 and 32 unknowns instead of D = 3 and 128.)  Cost: rank profiles modulo p,
+    O((m·(D + 1))³) word operations in all (the bounds at most double).
+    """
+    probes = [0]
+    while 2 * probes[-1] + 1 < D:
+        probes.append(2 * probes[-1] + 1)
+    for d in [x for x in probes if x < D] + [D]:
+        rows, cols = n * (d + dm + 1), m * (d + 1)
+        pivots = pivot_columns_mod_p(_toeplitz_entries(residues, m, n, dm, d, None), rows, cols, reduced=True)
+        is_pivot = [False] * cols
+        for c in pivots:
+            is_pivot[c] = True
+        gens = [c for c in range(cols) if not is_pivot[c] and (c < m or is_pivot[c - m])]
+        if len(gens) == k:
+            d_use = max(c // m for c in gens)
+            return d_use, [c for c in pivots if c < m * (d_use + 1)]
+    return D, pivots
+
+
 def popov_left_kernel(
-    a: dn.Rows, m: int, n: int, *, min_rows: int = TOEPLITZ_MIN_ROWS
+    a: dn.Rows, m: int, n: int, *, min_rows: int = TOEPLITZ_MIN_ROWS, coeffs: ToeplitzCoefficients | None = None
 ) -> dn.Rows | None:
     """The Popov basis of the left kernel of the m×n rows ``a`` (rows sorted by
     pivot degree, then pivot position), or None when m < ``min_rows`` or the
     Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.
-    Precondition: shape m×n (not checked)."""
+    Precondition: shape m×n; ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)``
+    (not checked)."""
     if m < min_rows:
         return None
     r = rank_raw(a, m, n)
@@ -144,8 +213,8 @@ def popov_left_kernel(
         return []
     if r == 0:
         return dn.identity(m)
-    dm = max(dn.mat_degree(a), 0)
-    mi = _integer_coefficients(a, m, n)
+    coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
+    mi, dm = coeffs.mi, coeffs.dm
     d_cap = MAX_UNKNOWNS // m - 1
     # Σ d_i = deg of the maximal minors of K ≤ b_r (they are those of a column
     # basis of M, divided by their gcd), so max d_i ≤ b_r and the mean is ≤ b_r / k.
@@ -156,8 +225,17 @@ def popov_left_kernel(
         # a nullspace of small dimension: the fraction-free nullspace is cheap (tall
         # (n+4)×n: 4 kernel rows); a large one (a 216×32 observability matrix: 184
         # rows) swells it, the modular rank profile and one square solve do not
-        lead = (generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D, None), n * (D + dm + 1), m * (D + 1), m)
-                if 2 * k >= m else None)
+        lead = None
+        if 2 * k >= m:
+            D_use, pivots = _generator_degree_mod_p(coeffs.residues, m, n, dm, D, k)
+            lead = generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D_use, None), n * (D_use + dm + 1),
+                                            m * (D_use + 1), m, pivots=pivots)
+            if lead is not None and D_use < D:
+                if len(lead) == k:
+                    # certified at D' < D: lead_Q = lead_p there, and lead_p has all k generators
+                    D, gens = D_use, lead
+                    break
+                lead = None  # pragma: no cover - as just said
         gens = _exact_generators(mi, m, n, dm, D) if lead is None else lead
         if len(gens) == k:
             break
@@ -173,7 +251,8 @@ def popov_left_kernel(
 
 
 def solve_reduced(
-    a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows, *, tries: int | None = None
+    a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows, *, tries: int | None = None,
+    coeffs: ToeplitzCoefficients | None = None,
 ) -> dn.Rows | None:
     """The X with ``X·M = rhs`` reduced modulo the Popov kernel basis ``kernel`` (entries
     in a pivot column of lower degree than that pivot), from one square block-Toeplitz
@@ -186,24 +265,23 @@ def solve_reduced(
     rank and the reduced solution, when it has degree ≤ D, is its unique solution.
     Rows making a square nonsingular system are chosen by a rank computation modulo
     the prime 2⁶¹ − 1 (nonsingular modulo p implies nonsingular over Q); the square
-    system is solved exactly (``fmpq_mat.solve``: p-adic lifting in C), and the
+    system is solved exactly (:func:`~uio_ring.ring._kernel_lead.solve_square`, in C), and the
     whole system ``T_D·x = rhs`` is then checked exactly — a solution of degree
     > D (or none) fails the check and D grows (at most ``tries`` degree bounds
     when given: for a system that may have no solution).  Precondition: ``kernel`` is the
-    Popov basis of the left kernel of the m×n rows ``a``; rhs rows have n entries
-    (not checked).
+    Popov basis of the left kernel of the m×n rows ``a``; rhs rows have n entries;
+    ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)`` (not checked).
     """
     if not rhs:
         return []
-    scale = _column_scale(a, m, n)
-    mi = [[[int(x) for x in (a[j][col] * scale[col]).numer().coeffs()] for col in range(n)] for j in range(m)]
-    dm = max(dn.mat_degree(a), 0)
+    coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
+    dm = coeffs.dm
     lead = {j: d for d, j in (dn.leading_position(row) for row in kernel)}
     hdeg = max(dn.mat_degree(rhs), 0)
     D = max([hdeg - dm, *lead.values(), 0])
     d_cap = MAX_UNKNOWNS // m - 1
     while D <= d_cap:
-        got = _solve_reduced_at(mi, m, n, dm, D, lead, rhs, scale)
+        got = _solve_reduced_at(coeffs, m, n, D, lead, rhs)
         if got is not None:
             return got
         if tries is not None:
@@ -215,9 +293,10 @@ def solve_reduced(
 
 
 def _solve_reduced_at(
-    mi: IntCoeffs, m: int, n: int, dm: int, D: int, lead: dict[int, int], rhs: dn.Rows,
-    scale: list[flint.fmpz],
+    coeffs: ToeplitzCoefficients, m: int, n: int, D: int, lead: dict[int, int], rhs: dn.Rows
 ) -> dn.Rows | None:
+    """:func:`solve_reduced` at the degree bound D; None when the check fails."""
+    mi, scale, dm = coeffs.mi, coeffs.scale, coeffs.dm
     rows, cols = n * (D + dm + 1), m * (D + 1)
     if dn.mat_degree(rhs) > D + dm:
         return None
@@ -225,18 +304,21 @@ def _solve_reduced_at(
     full = _toeplitz_entries(mi, m, n, dm, D, None)
     # right-hand sides: coefficient t of rhs[l]·c_l at row (t, l), over one denominator
     k = len(rhs)
+    scaled = [[(rhs[v][col] * scale[col]).coeffs() for col in range(n)] for v in range(k)]
     b = flint.fmpq_mat(rows, k, [
-        (rhs[v][col] * scale[col])[t] for t in range(D + dm + 1) for col in range(n) for v in range(k)
+        scaled[v][col][t] if t < len(scaled[v][col]) else 0
+        for t in range(D + dm + 1) for col in range(n) for v in range(k)
     ])
     bnum, bden = b.numer_denom()
     # independent rows of T restricted to the unknowns, modulo p
-    chosen = pivot_columns_mod_p([full[r * cols + c] for c in unknowns for r in range(rows)], len(unknowns), rows)
+    residues = _toeplitz_entries(coeffs.residues, m, n, dm, D, None)
+    chosen = pivot_columns_mod_p([residues[r * cols + c] for c in unknowns for r in range(rows)], len(unknowns), rows,
+                                 reduced=True)
     if len(chosen) < len(unknowns):
         return None  # a bad prime (T restricted to the unknowns has full column rank over Q)
     sq = flint.fmpz_mat(len(unknowns), len(unknowns), [full[r * cols + c] for r in chosen for c in unknowns])
     sb = flint.fmpz_mat(len(unknowns), k, [bnum[r, v] for r in chosen for v in range(k)])
-    sol = flint.fmpq_mat(sq).solve(flint.fmpq_mat(sb))  # exact (p-adic lifting in C)
-    snum, sden = sol.numer_denom()
+    snum, sden = solve_square(sq, sb).numer_denom()
     # the exact check of the whole system: T_P · x = rhs, in integers
     tfull = flint.fmpz_mat(rows, len(unknowns), [full[r * cols + c] for r in range(rows) for c in unknowns])
     if tfull * snum != bnum * sden:

@@ -115,8 +115,8 @@ def matmul_kronecker(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     db = max((p.degree() for r in bn for p in r), default=-1)
     if da < 0 or db < 0:
         return [[bk.ZERO] * n for _ in range(m)]
-    alpha = max(abs(c).bit_length() for r in an for p in r for c in p.coeffs()) if da >= 0 else 0
-    beta = max(abs(c).bit_length() for r in bn for p in r for c in p.coeffs()) if db >= 0 else 0
+    alpha = max(p.height_bits() for r in an for p in r)  # bits of the largest |coefficient|
+    beta = max(p.height_bits() for r in bn for p in r)
     if min(da, db) <= STACK_MAX_DEGREE and min(alpha, beta) <= STACK_MAX_BITS:
         return _matmul_stacked(an, bn, m, k, n, da, db, row_scale, col_scale)
     s = alpha + beta + (k * (1 + min(da, db))).bit_length() + 2

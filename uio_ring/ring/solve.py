@@ -28,7 +28,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring._division import reduce_modulo_popov
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
-from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
+from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
@@ -79,8 +79,9 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         if got is not None:
             return PolyMatrix._new(got, m, k, V.var)
     if m and k > n:
-        kern = popov_left_kernel(V._r, k, n)
-        got = solve_reduced(V._r, k, n, kern, W._r, tries=3) if kern else None
+        coeffs = ToeplitzCoefficients.of(V._r, k, n)
+        kern = popov_left_kernel(V._r, k, n, coeffs=coeffs)
+        got = solve_reduced(V._r, k, n, kern, W._r, tries=3, coeffs=coeffs) if kern else None
         if got is not None:  # X·V = W checked exactly inside; X reduced modulo the kernel
             return PolyMatrix._new(got, m, k, V.var)
     a = dn.copy(V._r)
