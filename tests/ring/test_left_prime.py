@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._fraction_free import det_integer, integer_rows
-from uio_ring.ring._left_prime import det_nmod, left_prime_mod_p
+from uio_ring.ring._left_prime import _times_constants_mod_p, det_nmod, left_prime_mod_p
 from uio_ring.ring._modular import PRIME
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.smith import invariant_factors_by_elimination
@@ -80,3 +80,24 @@ def test_high_degree_left_prime_row():
     assert left_prime_mod_p(M._r, 1, 3)
     N = PolyMatrix("[[(1 + d)**32, (1 + d)**31*(d - 1), 0]]")
     assert not left_prime_mod_p(N._r, 1, 3)
+
+
+@given(dense_matrices(min_rows=1, max_rows=4, min_cols=1, max_cols=5, max_degree=3), st.integers(0, 10**6),
+       st.sampled_from([PRIME, 7]))
+def test_products_with_constants_mod_p_are_the_polynomial_products(M, seed, p):
+    """The stacked product of :func:`_times_constants_mod_p` against the r²·n polynomial
+    products over GF(p)[δ] it replaces."""
+    import random
+
+    z, _ = integer_rows(M._r)
+    r, n = M.shape
+    d = max(max(e.degree() for e in row) for row in z)
+    if d < 0:
+        return
+    rng = random.Random(seed)
+    qs = [[[rng.randrange(p) for _ in range(r)] for _ in range(n)] for _ in range(2)]
+    got = _times_constants_mod_p(z, qs, r, n, d, p)
+    zp = [[flint.nmod_poly(e, p) for e in row] for row in z]
+    zero = flint.nmod_poly([], p)
+    for q, mq in zip(qs, got, strict=True):
+        assert mq == [[sum((row[l] * q[l][j] for l in range(n)), zero) for j in range(r)] for row in zp]

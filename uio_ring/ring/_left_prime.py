@@ -82,6 +82,24 @@ def det_nmod(a: list[list[flint.nmod_poly]], n: int, p: int) -> flint.nmod_poly:
     return a[n - 1][n - 1] if sign > 0 else -a[n - 1][n - 1]
 
 
+def _times_constants_mod_p(
+    z: list[list[flint.fmpz_poly]], qs: list[list[list[int]]], r: int, n: int, d: int, p: int
+) -> list[list[list[flint.nmod_poly]]]:
+    """``z·Q mod p`` for each n×r integer matrix Q of ``qs``, as r×r matrices over GF(p)[δ],
+    from one product in C: the coefficient stack (row (e, i): the δ^e-coefficients of
+    row i of z, r·(d + 1) × n) times ``[Q₁, Q₂, …]`` (n × r·len(qs)) modulo p — instead of
+    r²·n polynomial products in Python per Q.  Precondition: z is r×n of degree ≤ d."""
+    cs = [[e.coeffs() for e in row] for row in z]
+    stack = flint.nmod_mat(flint.fmpz_mat(r * (d + 1), n, [
+        c[e] if e < len(c) else 0 for e in range(d + 1) for row in cs for c in row
+    ]), p)
+    qcat = flint.nmod_mat(n, r * len(qs), [q[l][j] for l in range(n) for q in qs for j in range(r)], p)
+    prod = (stack * qcat).entries()
+    width = r * len(qs)
+    return [[[flint.nmod_poly([prod[(e * r + i) * width + t * r + j] for e in range(d + 1)], p) for j in range(r)]
+             for i in range(r)] for t in range(len(qs))]
+
+
 def left_prime_mod_p(a: dn.Rows, r: int, n: int, *, p: int = PRIME, seed: int = 1) -> bool:
     """True when the r×n rows ``a`` (over Q[δ]) are proved left prime by the test of the
     module docstring; False proves nothing.  Precondition: a is r×n with 1 ≤ r ≤ n
@@ -96,12 +114,6 @@ def left_prime_mod_p(a: dn.Rows, r: int, n: int, *, p: int = PRIME, seed: int = 
                                  for i in range(r) for j in range(n)], p)
     if (lead * flint.nmod_mat(n, r, [c for row in qs[0] for c in row], p)).det() == 0:
         return False  # the degree of f₁ mod p is not certified
-    zp = [[flint.nmod_poly(e, p) for e in row] for row in z]
-    zero = flint.nmod_poly([], p)
-    dets = []
-    for q in qs:
-        mq = [[sum((row[l] * q[l][j] for l in range(n)), zero) for j in range(r)] for row in zp]
-        dets.append(det_nmod(mq, r, p))
-    f1, f2 = dets
+    f1, f2 = (det_nmod(mq, r, p) for mq in _times_constants_mod_p(z, qs, r, n, max(degs), p))
     # f1 mod p has degree Σ d_i = deg f1 (its leading coefficient is det(L·Q₁) ≠ 0 mod p)
     return bool(f1.gcd(f2).is_one())
