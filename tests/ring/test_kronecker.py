@@ -84,3 +84,28 @@ def test_stacked_product_big_coefficients_times_low_degree():
     b = PolyMatrix([[f"{i - j}*d + {(i * j) % 3}/2" for j in range(4)] for i in range(5)])
     assert matmul_kronecker(a._r, b._r, 3, 5, 4) == _entrywise(a, b)
     assert matmul_kronecker(b.T._r, a.T._r, 4, 5, 3) == _entrywise(b.T, a.T)
+
+
+@given(st.lists(st.fractions(max_denominator=50), max_size=6), st.integers(1, 40))
+def test_scaled_numerator_is_the_scaled_polynomial(coeffs, mult):
+    """``scaled_numerator(p, c)`` (no gcd) is ``(p·c).numer()`` for every multiple c of the
+    denominator of p — zero polynomial and c = denominator included."""
+    import flint
+
+    from uio_ring.ring._kronecker import scaled_numerator
+
+    p = flint.fmpq_poly([flint.fmpq(c.numerator, c.denominator) for c in coeffs])
+    for c in (p.denom(), p.denom() * mult):
+        assert scaled_numerator(p, c) == (p * c).numer()
+        assert flint.fmpq_poly(scaled_numerator(p, c)) == p * c
+
+
+@given(st.integers(0, 2), st.integers(0, 6), st.integers(1, 4), st.integers(1, 4), st.integers(1, 4))
+def test_stacked_product_both_orientations(d_small, d_big, m, k, n):
+    """The Toeplitz block goes on the factor of lower degree: both orientations (and equal
+    degrees) against the entry-by-entry product."""
+    a = PolyMatrix([[f"({i - t + 2})*d**{d_big} + {t}/3*d**{min(d_big, 1)} - {i}" for t in range(k)]
+                    for i in range(m)])
+    b = PolyMatrix([[f"{(t + 2 * j) % 5 - 2}*d**{d_small} + {j}/7" for j in range(n)] for t in range(k)])
+    assert matmul_kronecker(a._r, b._r, m, k, n) == _entrywise(a, b)
+    assert matmul_kronecker(b.T._r, a.T._r, n, k, m) == _entrywise(b.T, a.T)

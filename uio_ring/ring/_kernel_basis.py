@@ -58,6 +58,7 @@ from uio_ring.ring._kernel_lead import (
     pivot_columns_mod_p,
     solve_square,
 )
+from uio_ring.ring._kronecker import scaled_numerator
 from uio_ring.ring._predicates import rank_raw
 
 __all__ = ["popov_left_kernel", "solve_reduced", "ToeplitzCoefficients", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
@@ -93,7 +94,7 @@ class ToeplitzCoefficients:
     def of(cls, a: dn.Rows, m: int, n: int) -> ToeplitzCoefficients:
         """Precondition: shape m×n (not checked)."""
         scale = _column_scale(a, m, n)
-        mi = [[[int(x) for x in (a[j][col] * scale[col]).numer().coeffs()] for col in range(n)] for j in range(m)]
+        mi = [[[int(x) for x in scaled_numerator(a[j][col], scale[col]).coeffs()] for col in range(n)] for j in range(m)]
         return cls(mi, scale, max(dn.mat_degree(a), 0))
 
     @property
