@@ -109,3 +109,18 @@ def test_stacked_product_both_orientations(d_small, d_big, m, k, n):
     b = PolyMatrix([[f"{(t + 2 * j) % 5 - 2}*d**{d_small} + {j}/7" for j in range(n)] for t in range(k)])
     assert matmul_kronecker(a._r, b._r, m, k, n) == _entrywise(a, b)
     assert matmul_kronecker(b.T._r, a.T._r, n, k, m) == _entrywise(b.T, a.T)
+
+
+@given(st.tuples(st.integers(1, 5), st.integers(1, 5), st.integers(1, 5)).flatmap(
+    lambda s: st.tuples(dense_matrices(rows=s[0], cols=s[1]), dense_matrices(rows=s[1], cols=s[2]),
+                        st.lists(st.booleans(), min_size=s[0] + 2 * s[1] + s[2], max_size=s[0] + 2 * s[1] + s[2]))))
+def test_product_on_the_support_equals_entrywise_product(abz):
+    """Zero rows and columns of a, zero rows and columns of b (the support that
+    ``matmul_kronecker`` restricts the product to), against the entry-by-entry product —
+    all-zero factors and products included."""
+    a, b, zero = abz
+    m, k, n = a.rows, a.cols, b.cols
+    ar = [[dn.bk.ZERO if zero[i] or zero[m + t] else a._r[i][t] for t in range(k)] for i in range(m)]
+    br = [[dn.bk.ZERO if zero[m + k + t] or zero[m + 2 * k + j] else b._r[t][j] for j in range(n)] for t in range(k)]
+    za, zb = PolyMatrix._new(ar, m, k, "d"), PolyMatrix._new(br, k, n, "d")
+    assert matmul_kronecker(ar, br, m, k, n) == _entrywise(za, zb)

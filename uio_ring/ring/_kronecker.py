@@ -128,8 +128,32 @@ def _matmul_stacked(
 
 
 def matmul_kronecker(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
-    """``a @ b`` for a (m×k) and b (k×n), exactly (see the module text).
-    Precondition: shapes fit, m, k, n ≥ 1 (not checked)."""
+    """``a @ b`` for a (m×k) and b (k×n), exactly (see the module text), on the support:
+    the inner indices t where column t of a and row t of b are both nonzero, the rows of a
+    and the columns of b that are nonzero there (the other entries of the product are
+    zero).  A left inverse reduced modulo a constant kernel basis is zero outside n_x of
+    its columns: Ō_L⁻¹·Ō of a 32-state design, 32×216 by 216×32, is a 32×32 by 32×32
+    product (0.95 s → 0.15 s).  Precondition: shapes fit, m, k, n ≥ 1 (not checked)."""
+    inner = [t for t in range(k) if any(not p.is_zero() for p in b[t]) and any(not r[t].is_zero() for r in a)]
+    rows = [i for i in range(m) if any(not a[i][t].is_zero() for t in inner)]
+    cols = [j for j in range(n) if any(not b[t][j].is_zero() for t in inner)]
+    if not rows or not cols:
+        return [[bk.ZERO] * n for _ in range(m)]
+    if len(inner) == k and len(rows) == m and len(cols) == n:
+        return _matmul_packed(a, b, m, k, n)
+    part = _matmul_packed([[a[i][t] for t in inner] for i in rows], [[b[t][j] for j in cols] for t in inner],
+                          len(rows), len(inner), len(cols))
+    out = [[bk.ZERO] * n for _ in range(m)]
+    for i, prow in zip(rows, part, strict=True):
+        orow = out[i]
+        for j, v in zip(cols, prow, strict=True):
+            orow[j] = v
+    return out
+
+
+def _matmul_packed(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
+    """:func:`matmul_kronecker` on all indices.  Precondition: shapes fit, m, k, n ≥ 1
+    (not checked)."""
     row_scale = [_lcm_denominators(a[i]) for i in range(m)]
     col_scale = [_lcm_denominators([b[t][j] for t in range(k)]) for j in range(n)]
     an = [[scaled_numerator(a[i][t], row_scale[i]) for t in range(k)] for i in range(m)]
