@@ -22,7 +22,10 @@ for that order.  So:
    leading monomial.  There are m − rank M of them iff D ≥ max d_i; the rank is
    exact (:func:`~uio_ring.ring._predicates.rank_raw`), so the count proves
    that the basis is complete.  D starts at ⌈b_r / (m − r)⌉ (b_r: the degree
-   bound of the r×r minors; Σ d_i ≤ b_r) and grows while generators are missing.
+   bound of the r×r minors; Σ d_i ≤ b_r) and grows while generators are missing;
+   on the modular path the rank profiles modulo p at D = 0, 1, 3, … first locate the
+   greatest minimal index, and the exact solve runs there
+   (:func:`_generator_degree_mod_p`).
 3. The result is checked once more: ``K·M == 0`` exactly (as ``T·g = 0`` over Z).
 
 This is the linear-algebra view of minimal bases (Forney 1975, §4; the block
@@ -268,7 +271,8 @@ def solve_reduced(
     the prime 2⁶¹ − 1 (nonsingular modulo p implies nonsingular over Q); the square
     system is solved exactly (:func:`~uio_ring.ring._kernel_lead.solve_square`, in C), and the
     whole system ``T_D·x = rhs`` is then checked exactly — a solution of degree
-    > D (or none) fails the check and D grows (at most ``tries`` degree bounds
+    > D (or none) fails the check and D grows (a bound that the same system modulo p
+    already refutes skips the exact solve: :func:`_consistent_mod_p`) (at most ``tries`` degree bounds
     when given: for a system that may have no solution).  Precondition: ``kernel`` is the
     Popov basis of the left kernel of the m×n rows ``a``; rhs rows have n entries;
     ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)`` (not checked).
@@ -293,16 +297,54 @@ def solve_reduced(
     return None
 
 
+def _toeplitz_columns(mi: IntCoeffs, m: int, n: int, dm: int, D: int, columns: list[int]) -> list[list[int]]:
+    """The given columns (indices e·m + j) of the Toeplitz matrix ``T_D`` of
+    :func:`_toeplitz_entries`, each as a list of its n·(D + dm + 1) entries: column
+    (e, j) holds coefficient s of ``M[j][l]`` at row ((e + s)·n + l)."""
+    rows = n * (D + dm + 1)
+    out = []
+    for c in columns:
+        e, j = divmod(c, m)
+        col = [0] * rows
+        for l_, cs in enumerate(mi[j]):
+            for s, x in enumerate(cs):
+                if x:
+                    col[(e + s) * n + l_] = x
+        out.append(col)
+    return out
+
+
+def _consistent_mod_p(
+    residues: list[list[int]], chosen: list[int], bnum: flint.fmpz_mat, rows: int, u: int, k: int
+) -> bool:
+    """False only when the integer system ``T_P·X = B`` (T_P: the columns whose residues
+    modulo :data:`~uio_ring.ring._kernel_lead.PRIME` are ``residues``; B = ``bnum``) has
+    no rational solution.  Proof: the rows ``chosen`` of T_P form a square matrix S that is
+    nonsingular modulo p, so a solution X is ``S⁻¹·B_chosen``, with denominators dividing
+    det S, a unit modulo p; X mod p is then the unique solution Y of ``S·Y ≡ B_chosen``
+    and satisfies ``T_P·Y ≡ B (mod p)``.  So a failure of that congruence proves that no
+    X exists, before the exact solve (a degree bound too small: the solve of T of a
+    32-state design at D = 0).  Cost: one u×u solve and one product modulo p."""
+    p = PRIME
+    b_p = flint.nmod_mat(bnum, p)
+    sq_p = flint.nmod_mat(u, u, [residues[c][r] for r in chosen for c in range(u)], p)
+    sb_p = flint.nmod_mat(u, k, [int(b_p[r, v]) for r in chosen for v in range(k)], p)
+    t_p = flint.nmod_mat(rows, u, [residues[c][r] for r in range(rows) for c in range(u)], p)
+    return bool(t_p * sq_p.solve(sb_p) == b_p)
+
+
 def _solve_reduced_at(
     coeffs: ToeplitzCoefficients, m: int, n: int, D: int, lead: dict[int, int], rhs: dn.Rows
 ) -> dn.Rows | None:
     """:func:`solve_reduced` at the degree bound D; None when the check fails."""
     mi, scale, dm = coeffs.mi, coeffs.scale, coeffs.dm
-    rows, cols = n * (D + dm + 1), m * (D + 1)
+    rows = n * (D + dm + 1)
     if dn.mat_degree(rhs) > D + dm:
         return None
     unknowns = [e * m + j for e in range(D + 1) for j in range(m) if not (j in lead and e >= lead[j])]
-    full = _toeplitz_entries(mi, m, n, dm, D, None)
+    u = len(unknowns)
+    exact = _toeplitz_columns(mi, m, n, dm, D, unknowns)
+    residues = _toeplitz_columns(coeffs.residues, m, n, dm, D, unknowns)
     # right-hand sides: coefficient t of rhs[l]·c_l at row (t, l), over one denominator
     k = len(rhs)
     scaled = [[(rhs[v][col] * scale[col]).coeffs() for col in range(n)] for v in range(k)]
@@ -312,16 +354,16 @@ def _solve_reduced_at(
     ])
     bnum, bden = b.numer_denom()
     # independent rows of T restricted to the unknowns, modulo p
-    residues = _toeplitz_entries(coeffs.residues, m, n, dm, D, None)
-    chosen = pivot_columns_mod_p([residues[r * cols + c] for c in unknowns for r in range(rows)], len(unknowns), rows,
-                                 reduced=True)
-    if len(chosen) < len(unknowns):
+    chosen = pivot_columns_mod_p([x for col in residues for x in col], u, rows, reduced=True)
+    if len(chosen) < u:
         return None  # a bad prime (T restricted to the unknowns has full column rank over Q)
-    sq = flint.fmpz_mat(len(unknowns), len(unknowns), [full[r * cols + c] for r in chosen for c in unknowns])
-    sb = flint.fmpz_mat(len(unknowns), k, [bnum[r, v] for r in chosen for v in range(k)])
+    if not _consistent_mod_p(residues, chosen, bnum, rows, u, k):
+        return None  # no solution of degree ≤ D (proved: see _consistent_mod_p)
+    sq = flint.fmpz_mat(u, u, [exact[c][r] for r in chosen for c in range(u)])
+    sb = flint.fmpz_mat(u, k, [bnum[r, v] for r in chosen for v in range(k)])
     snum, sden = solve_square(sq, sb).numer_denom()
     # the exact check of the whole system: T_P · x = rhs, in integers
-    tfull = flint.fmpz_mat(rows, len(unknowns), [full[r * cols + c] for r in range(rows) for c in unknowns])
+    tfull = flint.fmpz_mat(rows, u, [exact[c][r] for r in range(rows) for c in range(u)])
     if tfull * snum != bnum * sden:
         return None  # the reduced solution has degree > D
     qden = flint.fmpq(bden * sden)
