@@ -68,13 +68,13 @@ def test_both_paths_equal_the_entrywise_product(ab):
     import uio_ring.ring._kronecker as kr
 
     a, b = ab
-    saved = kr.STACK_MAX_DEGREE
+    saved = kr.STACK_MAX_DEGREE, kr.STACK_MAX_BITS
     try:
         for bound in (-1, 10**6):  # never stacked / always stacked
             kr.STACK_MAX_DEGREE, kr.STACK_MAX_BITS = bound, 10**9 if bound > 0 else 128
             assert matmul_kronecker(a._r, b._r, a.rows, a.cols, b.cols) == _entrywise(a, b)
     finally:
-        kr.STACK_MAX_DEGREE, kr.STACK_MAX_BITS = saved, 128
+        kr.STACK_MAX_DEGREE, kr.STACK_MAX_BITS = saved
 
 
 def test_stacked_product_big_coefficients_times_low_degree():
