@@ -49,6 +49,7 @@ rank M < rows, tall left inverses, ``solve_left`` for tall V.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import flint
 
@@ -73,7 +74,7 @@ MAX_UNKNOWNS = 1000
 #: of the observability algorithm, 3×2 of degree 127: elimination 1 ms, Toeplitz 4.7 s).
 TOEPLITZ_MIN_ROWS = 6
 
-IntCoeffs = list[list[list[int]]]  # [row j][column l] -> integer coefficients, low to high
+IntCoeffs = list[list[list[Any]]]  # [row j][column l] -> integer coefficients (int or fmpz), low to high
 
 
 def _integer_coefficients(a: dn.Rows, m: int, n: int) -> IntCoeffs:
@@ -84,7 +85,7 @@ def _integer_coefficients(a: dn.Rows, m: int, n: int) -> IntCoeffs:
 
 @dataclass
 class ToeplitzCoefficients:
-    """The integer coefficients of M·diag(c) (:func:`_integer_coefficients`), the column
+    """The integer coefficients (fmpz, no conversion to int) of M·diag(c), the column
     scales c and, on demand, the coefficients modulo the word prime: computed once for
     the kernel and the solve of the same M (:func:`uio_ring.ring.solve.solve_left`)."""
 
@@ -97,7 +98,7 @@ class ToeplitzCoefficients:
     def of(cls, a: dn.Rows, m: int, n: int) -> ToeplitzCoefficients:
         """Precondition: shape m×n (not checked)."""
         scale = _column_scale(a, m, n)
-        mi = [[[int(x) for x in scaled_numerator(a[j][col], scale[col]).coeffs()] for col in range(n)] for j in range(m)]
+        mi = [[scaled_numerator(a[j][col], scale[col]).coeffs() for col in range(n)] for j in range(m)]
         return cls(mi, scale, max(dn.mat_degree(a), 0))
 
     @property
