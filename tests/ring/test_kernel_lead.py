@@ -193,3 +193,16 @@ def test_solve_square_equals_the_rational_solve(n, k, seed):
 def test_solve_square_singular():
     with pytest.raises(ZeroDivisionError):
         solve_square(flint.fmpz_mat([[1, 2], [2, 4]]), flint.fmpz_mat([[1], [1]]))
+
+
+def test_solve_square_both_solvers():
+    """Few unknowns, big entries, many right-hand sides: the multimodular solve; many
+    unknowns, small entries: lifting.  Both give the exact solution."""
+    import random
+
+    rng = random.Random(3)
+    for n, bits, k in ((3, 900, 12), (30, 8, 2)):
+        a = flint.fmpz_mat(n, n, [rng.randint(-2**bits, 2**bits) for _ in range(n * n)])
+        b = flint.fmpz_mat(n, k, [rng.randint(-99, 99) for _ in range(n * k)])
+        x = solve_square(a, b)
+        assert flint.fmpq_mat(a) * x == flint.fmpq_mat(b)
