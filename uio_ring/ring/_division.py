@@ -90,13 +90,23 @@ class PopovDivisor:
     degs: tuple[int, ...]
     det: flint.fmpq_poly
     adj: dn.Rows
+    #: ``(P, G)`` with ``P·G == basis`` exactly (see :meth:`of`), or None
+    via: tuple[dn.Rows, dn.Rows] | None = None
 
     @staticmethod
-    def of(basis: dn.Rows) -> PopovDivisor:
+    def of(basis: dn.Rows, via: tuple[dn.Rows, dn.Rows] | None = None) -> PopovDivisor:
+        """The divisor by ``basis``.  ``via = (P, G)``: another basis G of the same
+        module with ``basis == P·G`` exactly (P unimodular; the caller's proof, e.g. P
+        the transform of the Popov reduction of G).  Then each quotient q (of
+        ``x − q·basis``) is applied as ``x − (q·P)·G``: the same remainder, with
+        products by the entries of G instead of those of the basis — a gain when G
+        has far smaller coefficients (the integer kernel rows of an elimination
+        against their Popov form, whose monic pivots bring rationals of ≈ 150 bits;
+        22×20 tall: 4.4 → 3.1 ms for the 20 rows)."""
         lead = [dn.leading_position(row) for row in basis]
         cols = tuple(j for _, j in lead)
         det, adj = adjugate([[row[c] for c in cols] for row in basis], len(basis))
-        return PopovDivisor(basis, cols, tuple(d for d, _ in lead), det, adj)
+        return PopovDivisor(basis, cols, tuple(d for d, _ in lead), det, adj, via)
 
     def pending(self, row: list[flint.fmpq_poly]) -> bool:
         """True if some entry of ``row`` in a pivot column is not below its pivot degree."""
@@ -109,34 +119,40 @@ class PopovDivisor:
             return new
         k = len(self.cols)
         y = [row[c] for c in self.cols]
+        qs = []
         for jj in range(k):
             s = bk.ZERO
             for i in range(k):
                 if not y[i].is_zero() and not self.adj[i][jj].is_zero():
                     s = s + y[i] * self.adj[i][jj]
-            q = s // self.det
+            qs.append(s // self.det)
+        rows = self.basis
+        if self.via is not None:  # q·basis = (q·P)·G
+            p, rows = self.via
+            qs = [sum((qs[i] * p[i][jj] for i in range(k) if not p[i][jj].is_zero()), bk.ZERO)
+                  for jj in range(len(rows))]
+        for q, brow in zip(qs, rows, strict=True):
             if q.is_zero():
                 continue
-            brow = self.basis[jj]
             for c in range(len(new)):
                 if not brow[c].is_zero():
                     new[c] = new[c] - q * brow[c]
         return new
 
 
-def reduce_modulo_popov(x: dn.Rows, basis: dn.Rows) -> dn.Rows:
+def reduce_modulo_popov(x: dn.Rows, basis: dn.Rows, via: tuple[dn.Rows, dn.Rows] | None = None) -> dn.Rows:
     """The rows of ``x`` reduced modulo the row module of ``basis`` (new rows).
 
     Afterwards every entry in the pivot column of a basis row has lower degree
     than that pivot, and each output row differs from its input row by a
     polynomial combination of the basis rows.  Precondition: ``basis`` is in
     row-wise Popov form (zero shift) with no zero row, and its rows have the
-    length of the rows of ``x`` (not checked).
+    length of the rows of ``x`` (not checked).  ``via``: see :meth:`PopovDivisor.of`.
     """
     if not x or not basis:
         return dn.copy(x)
     lead = [dn.leading_position(row) for row in basis]
     if not any(row[j].degree() >= d for row in x for d, j in lead):
         return dn.copy(x)
-    div = PopovDivisor.of(basis)
+    div = PopovDivisor.of(basis, via)
     return [div.remainder(row) for row in x]

@@ -179,14 +179,19 @@ def reduce_transform(u: dn.Rows, r: int, kernel: dn.Rows | None = None) -> None:
     """
     if r >= len(u):
         return
+    via = None
     if kernel is None:
+        gens = dn.copy(u[r:])
         kern = u[r:]
-        dn.weak_popov(kern)
-        dn.popov(kern)
+        p = dn.identity(len(kern))
+        dn.weak_popov(kern, p)
+        dn.popov(kern, p)
+        if max_bits(gens) < max_bits(kern):
+            via = (p, gens)  # kern == p·gens: the same unimodular row operations on both
     else:
         kern = dn.copy(kernel)
     u[r:] = kern
-    u[:r] = dv.reduce_modulo_popov(u[:r], kern)
+    u[:r] = dv.reduce_modulo_popov(u[:r], kern, via)
 
 
 

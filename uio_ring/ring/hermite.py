@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from uio_ring.ring import _dense as dn
+from uio_ring.ring import _integral as zi
 from uio_ring.ring._echelon import (
     CoefficientGrowth,
     max_bits,
@@ -251,13 +252,20 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, 1, -1]]))
     """
     m, n = M.shape
-    a = dn.copy(M._r) if rows is None else rows
-    u = dn.identity(m)
-    try:
-        pivots = row_echelon(a, u, m, n, bit_cap=ELIMINATION_BITS + 4 * max_bits(M._r))
-    except CoefficientGrowth:
+    cap = ELIMINATION_BITS + 4 * max_bits(M._r)
+    got = _echelon_integral(M._r, m, n, cap, rows)
+    if got is _GROWTH:
         return None
-    normalise(a, u, pivots)
+    if got is not None:
+        a, u, pivots = got
+    else:
+        a = dn.copy(M._r) if rows is None else rows
+        u = dn.identity(m)
+        try:
+            pivots = row_echelon(a, u, m, n, bit_cap=cap)
+        except CoefficientGrowth:
+            return None
+        normalise(a, u, pivots)
     reduce_transform(u, len(pivots))
     return HermiteResult(
         H=PolyMatrix._new(a, m, n, M.var),
@@ -265,6 +273,42 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
         rank=len(pivots),
         pivots=tuple(pivots),
     )
+
+
+_GROWTH = object()
+
+
+def _echelon_integral(
+    a: dn.Rows, m: int, n: int, cap: int | None, rows: dn.Rows | None = None
+) -> tuple[dn.Rows, dn.Rows, list[int]] | object | None:
+    """:func:`row_echelon` with transform and :func:`normalise` of the m×n rows ``a``
+    over Z[δ] (:mod:`uio_ring.ring._integral`: the same steps and the same exact
+    result, without rational canonicalisations): ``(H rows, U rows, pivots)``; None
+    when ``a`` has a denominator or a step leaves Z[δ] (then the caller runs the
+    rational elimination); ``_GROWTH`` when the elimination stops on ``cap``
+    (:class:`CoefficientGrowth`), with ``rows`` (when given) set to the half-eliminated
+    rows at that point — the rows the rational elimination stops with."""
+    z = zi.to_integer_rows(a)
+    if z is None:
+        return None
+    uz = zi.identity(m)
+    try:
+        pivots = zi.row_echelon_int(z, uz, m, n, bit_cap=cap)
+    except CoefficientGrowth:
+        if rows is not None:
+            rows[:] = zi.to_rational_rows(z)
+        return _GROWTH
+    except zi.NotIntegral:
+        return None
+    try:
+        zi.normalise_int(z, uz, pivots)
+    except zi.NotIntegral:
+        # raised before row k changed, rows k+1.. finished: the rational normalisation
+        # repeats no step on them (monic pivots, reduced entries) and goes on from row k
+        h, u = zi.to_rational_rows(z), zi.to_rational_rows(uz)
+        normalise(h, u, pivots)
+        return h, u, pivots
+    return zi.to_rational_rows(z), zi.to_rational_rows(uz), pivots
 
 
 def hermite_by_elimination(M: PolyMatrix) -> HermiteResult:
