@@ -89,6 +89,19 @@ def _divmod(x: flint.fmpz_poly, y: flint.fmpz_poly) -> tuple[flint.fmpz_poly, bo
     return qq.numer(), rr.is_zero()
 
 
+def _axpy(a: IntRows, target: int, q: flint.fmpz_poly, source: int, start: int = 0) -> None:
+    """``a[target] -= q * a[source]`` on columns ``start:`` (:func:`~uio_ring.ring._dense.row_axpy`)."""
+    rt, rs = a[target], a[source]
+    for j in range(start, len(rt)):
+        s = rs[j]
+        if not s.is_zero():
+            rt[j] = rt[j] - q * s
+
+
+def _row_degree(row: list[flint.fmpz_poly]) -> int:
+    return max((e.degree() for e in row), default=-1)
+
+
 def _integral(p: flint.fmpq_poly) -> flint.fmpz_poly:
     if p.denom() != 1:
         raise NotIntegral
@@ -126,7 +139,7 @@ def row_echelon_int(a: IntRows, u: IntRows | None, m: int, n: int, bit_cap: int 
             degs = [a[i][j].degree() for i in nz]
             least = min(degs)
             ties = [i for i, d in zip(nz, degs, strict=True) if d == least]
-            p = ties[0] if len(ties) == 1 else min(ties, key=lambda i: (dn.row_degree(a[i]), i))
+            p = ties[0] if len(ties) == 1 else min(ties, key=lambda i: (_row_degree(a[i]), i))
             pj = a[p][j]
             if len(nz) == 2:
                 for i in nz:
@@ -134,9 +147,9 @@ def row_echelon_int(a: IntRows, u: IntRows | None, m: int, n: int, bit_cap: int 
                         continue
                     q, exact = _divmod(a[i][j], pj)
                     if exact:
-                        dn.row_axpy(a, i, q, p, j)
+                        _axpy(a, i, q, p, j)
                         if u is not None:
-                            dn.row_axpy(u, i, q, p)
+                            _axpy(u, i, q, p)
                     else:
                         _xgcd_step(a, u, p, i, j)
                 continue
@@ -144,9 +157,9 @@ def row_echelon_int(a: IntRows, u: IntRows | None, m: int, n: int, bit_cap: int 
                 if i == p:
                     continue
                 q = _quotient(a[i][j], pj)
-                dn.row_axpy(a, i, q, p, j)
+                _axpy(a, i, q, p, j)
                 if u is not None:
-                    dn.row_axpy(u, i, q, p)
+                    _axpy(u, i, q, p)
         if not nz:
             continue
         p = nz[0]
@@ -181,9 +194,9 @@ def normalise_int(a: IntRows, u: IntRows | None, pivots: list[int]) -> None:
             piv = a[i][ji]
             if a[k][ji].degree() >= piv.degree():
                 q = _quotient(a[k][ji], piv)
-                dn.row_axpy(a, k, q, i, ji)
+                _axpy(a, k, q, i, ji)
                 if u is not None:
-                    dn.row_axpy(u, k, q, i)
+                    _axpy(u, k, q, i)
 
 
 def identity(m: int) -> IntRows:

@@ -253,8 +253,9 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     """
     m, n = M.shape
     cap = ELIMINATION_BITS + 4 * max_bits(M._r)
-    got = _echelon_integral(M._r, m, n, cap, rows)
-    if got is _GROWTH:
+    try:
+        got = _echelon_integral(M._r, m, n, cap, rows)
+    except CoefficientGrowth:
         return None
     if got is not None:
         a, u, pivots = got
@@ -275,19 +276,16 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     )
 
 
-_GROWTH = object()
-
-
 def _echelon_integral(
     a: dn.Rows, m: int, n: int, cap: int | None, rows: dn.Rows | None = None
-) -> tuple[dn.Rows, dn.Rows, list[int]] | object | None:
+) -> tuple[dn.Rows, dn.Rows, list[int]] | None:
     """:func:`row_echelon` with transform and :func:`normalise` of the m×n rows ``a``
     over Z[δ] (:mod:`uio_ring.ring._integral`: the same steps and the same exact
     result, without rational canonicalisations): ``(H rows, U rows, pivots)``; None
     when ``a`` has a denominator or a step leaves Z[δ] (then the caller runs the
-    rational elimination); ``_GROWTH`` when the elimination stops on ``cap``
-    (:class:`CoefficientGrowth`), with ``rows`` (when given) set to the half-eliminated
-    rows at that point — the rows the rational elimination stops with."""
+    rational elimination).  Raises :class:`CoefficientGrowth` when the elimination
+    stops on ``cap``, with ``rows`` (when given) set to the half-eliminated rows at
+    that point — the rows the rational elimination stops with."""
     z = zi.to_integer_rows(a)
     if z is None:
         return None
@@ -297,7 +295,7 @@ def _echelon_integral(
     except CoefficientGrowth:
         if rows is not None:
             rows[:] = zi.to_rational_rows(z)
-        return _GROWTH
+        raise
     except zi.NotIntegral:
         return None
     try:
