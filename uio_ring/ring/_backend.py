@@ -19,6 +19,8 @@ from fractions import Fraction
 
 import flint
 
+from uio_ring.ring import _xgcd
+
 __all__ = [
     "Scalar",
     "RawPoly",
@@ -132,8 +134,10 @@ def evaluate(p: flint.fmpq_poly, x: flint.fmpq) -> flint.fmpq:
 
 
 def xgcd(a: flint.fmpq_poly, b: flint.fmpq_poly):
-    """``(g, s, t)`` with ``g = s·a + t·b`` monic (``g = 0`` iff a = b = 0)."""
-    return a.xgcd(b)
+    """``(g, s, t)`` with ``g = s·a + t·b`` monic (``g = 0`` iff a = b = 0) and the
+    cofactors of least degree: python-flint's ``a.xgcd(b)``, by certified Chinese
+    remaindering for large degrees (:mod:`uio_ring.ring._xgcd`; the same result)."""
+    return _xgcd.xgcd(a, b)
 
 
 def gcd(a: flint.fmpq_poly, b: flint.fmpq_poly) -> flint.fmpq_poly:

@@ -186,8 +186,12 @@ def reduce_transform(u: dn.Rows, r: int, kernel: dn.Rows | None = None) -> None:
         p = dn.identity(len(kern))
         dn.weak_popov(kern, p)
         dn.popov(kern, p)
-        if max_bits(gens) < max_bits(kern):
-            via = (p, gens)  # kern == p·gens: the same unimodular row operations on both
+        # kern == p·gens (the same unimodular row operations on both).  Dividing
+        # through gens pays when its coefficients are far smaller: tall 22×20 with
+        # 24 against 154 bits, 3.9 instead of 5.0 ms; 10 against 20 bits (10×8),
+        # 0.31 instead of 0.25 ms.
+        if 4 * max_bits(gens) <= max_bits(kern):
+            via = (p, gens)
     else:
         kern = dn.copy(kernel)
     u[r:] = kern

@@ -1,0 +1,214 @@
+"""The integral elimination, the division through the elimination's kernel rows and
+the multimodular xgcd: each fast path against the plain one it replaces.
+
+- :mod:`uio_ring.ring._integral`: ``row_echelon_int`` + ``normalise_int`` give exactly the
+  rows of the rational ``row_echelon`` + ``normalise`` (or raise ``NotIntegral``);
+  ``hermite`` / ``left_inverse`` with the integral path switched off give the same H, U, L.
+- :class:`uio_ring.ring._division.PopovDivisor` ``via=(P, G)`` gives the same remainders
+  as the division by the Popov basis itself.
+- :func:`uio_ring.ring._xgcd.xgcd` gives python-flint's ``xgcd`` triple (forced onto the
+  modular path for small degrees), and a wrong candidate is rejected by its check.
+"""
+
+from __future__ import annotations
+
+import flint
+import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
+
+from uio_ring import PolyMatrix, hermite, left_inverse
+from uio_ring.ring import _dense as dn
+from uio_ring.ring import _division as dv
+from uio_ring.ring import _integral as zi
+from uio_ring.ring import _xgcd as xg
+from uio_ring.ring._echelon import CoefficientGrowth, normalise, row_echelon
+from uio_ring.ring.errors import NotUnimodularError
+from uio_ring.ring.hermite import hermite_by_elimination
+
+from .strategies import assert_unimodular, dense_matrices, heavy, unimodular_matrices
+
+
+def _tall_unimodular_columns(draw, n: int, extra: int) -> PolyMatrix:
+    U = draw(unimodular_matrices(n + extra, max_degree=1))
+    return U[:, :n]
+
+
+@st.composite
+def integer_matrices(draw):
+    """Integer matrices: independent entries, or columns of a unimodular matrix (whose
+    elimination stays integral when the scalings are ±1)."""
+    if draw(st.booleans()):
+        return draw(dense_matrices(min_rows=1, max_rows=6, min_cols=1, max_cols=5, rational=False))
+    n = draw(st.integers(1, 5))
+    return _tall_unimodular_columns(draw, n, draw(st.integers(0, 3)))
+
+
+def _plain(M: PolyMatrix):
+    m, n = M.shape
+    a, u = dn.copy(M._r), dn.identity(m)
+    pivots = row_echelon(a, u, m, n)
+    normalise(a, u, pivots)
+    return a, u, pivots
+
+
+@given(integer_matrices())
+def test_integral_elimination_equals_rational(M):
+    m, n = M.shape
+    z, uz = zi.to_integer_rows(M._r), zi.identity(m)
+    assume(z is not None)
+    try:
+        pivots = zi.row_echelon_int(z, uz, m, n)
+        zi.normalise_int(z, uz, pivots)
+    except zi.NotIntegral:
+        return
+    a, u, ref_pivots = _plain(M)
+    assert pivots == ref_pivots
+    assert zi.to_rational_rows(z) == a
+    assert zi.to_rational_rows(uz) == u
+
+
+def test_integral_path_is_taken_and_refused():
+    # columns of a unimodular integer matrix: integral throughout
+    M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"], [2, "d - 1"]])
+    z = zi.to_integer_rows(M._r)
+    pivots = zi.row_echelon_int(z, zi.identity(4), 4, 2)
+    assert pivots == [0, 1]
+    # a quotient 1/2: refused
+    N = PolyMatrix([["2*d + 1", 1], [2, 0], ["3*d", 1]])
+    with pytest.raises(zi.NotIntegral):
+        zi.row_echelon_int(zi.to_integer_rows(N._r), zi.identity(3), 3, 2)
+    assert zi.to_integer_rows(PolyMatrix([["d/2"]])._r) is None
+
+
+def test_integral_bit_cap_same_as_rational():
+    M = PolyMatrix([["3*d**2 + 5", "d + 7"], ["d", "4*d**2 - 1"], ["d**2 + 1", "2"]])
+    z = zi.to_integer_rows(M._r)
+    a = dn.copy(M._r)
+    for cap in range(1, 12):
+        try:
+            zi.row_echelon_int(zi.to_integer_rows(M._r), zi.identity(3), 3, 2, bit_cap=cap)
+            int_raised = False
+        except CoefficientGrowth:
+            int_raised = True
+        except zi.NotIntegral:
+            continue
+        try:
+            row_echelon(dn.copy(a), dn.identity(3), 3, 2, bit_cap=cap)
+            raised = False
+        except CoefficientGrowth:
+            raised = True
+        assert int_raised == raised, cap
+    assert z is not None
+
+
+@heavy()
+@given(st.data())
+def test_hermite_and_left_inverse_same_without_integral_path(data):
+    n = data.draw(st.integers(1, 5))
+    M = _tall_unimodular_columns(data.draw, n, data.draw(st.integers(1, 3)))
+    h = hermite(M)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(zi, "to_integer_rows", lambda a: None)
+        h0 = hermite(M)
+        L0 = left_inverse(M)
+    L = left_inverse(M)
+    assert (h.H, h.U, h.rank, h.pivots) == (h0.H, h0.U, h0.rank, h0.pivots)
+    assert L == L0
+    assert h.U @ M == h.H
+    assert L @ M == PolyMatrix.identity(n)
+    assert_unimodular(h.U)
+
+
+@heavy()
+@given(dense_matrices(min_rows=2, max_rows=6, min_cols=1, max_cols=4, rational=False))
+def test_hermite_by_elimination_same_without_integral_path(M):
+    h = hermite(M)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(zi, "to_integer_rows", lambda a: None)
+        h0 = hermite(M)
+    assert (h.H, h.U) == (h0.H, h0.U)
+    assert h.U @ M == h.H
+
+
+def test_left_inverse_errors_unchanged():
+    with pytest.raises(NotUnimodularError):
+        left_inverse(PolyMatrix([["d", 0], [0, "d"], ["d", "d"]]))
+
+
+# ----------------------------------------------------------------------------
+# division through another basis of the module
+# ----------------------------------------------------------------------------
+@given(st.data())
+def test_division_via_generators_same_remainder(data):
+    n = data.draw(st.integers(1, 4))
+    M = _tall_unimodular_columns(data.draw, n, data.draw(st.integers(1, 3)))
+    m = M.rows
+    a, u, pivots = _plain(M)
+    r = len(pivots)
+    gens = dn.copy(u[r:])
+    kern, p = dn.copy(gens), dn.identity(m - r)
+    dn.weak_popov(kern, p)
+    dn.popov(kern, p)
+    assert dn.matmul(p, gens, m - r, m - r, m) == kern
+    x = data.draw(dense_matrices(rows=2, cols=m, max_degree=6))._r + u[:r]
+    assert dv.reduce_modulo_popov(x, kern, (p, gens)) == dv.reduce_modulo_popov(x, kern)
+
+
+def test_division_via_a_wrong_basis_changes_the_result():
+    # deliberate breakage: a `via` that is not P·G = basis gives another remainder, so the
+    # equality above is not vacuous
+    d = flint.fmpq_poly([0, 1])
+    one = flint.fmpq_poly([1])
+    basis = [[d, one]]
+    x = [[d**3 + 1, d]]
+    good = dv.reduce_modulo_popov(x, basis, ([[one]], basis))
+    bad = dv.reduce_modulo_popov(x, basis, ([[one]], [[d, one + one]]))
+    assert good == dv.reduce_modulo_popov(x, basis)
+    assert bad != good
+
+
+# ----------------------------------------------------------------------------
+# xgcd
+# ----------------------------------------------------------------------------
+rat_polys = st.lists(
+    st.fractions(min_value=-5, max_value=5, max_denominator=6), min_size=1, max_size=14
+).map(lambda cs: flint.fmpq_poly([flint.fmpq(c.numerator, c.denominator) for c in cs]))
+
+
+@given(rat_polys, rat_polys, rat_polys)
+def test_xgcd_modular_equals_flint(a, b, h):
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(xg, "MIN_DEGREE", 1)
+        got = xg.xgcd(a * h, b * h)
+    assert got == (a * h).xgcd(b * h)
+
+
+def test_xgcd_benchmark_polynomials():
+    x = flint.fmpq_poly([0, 1])
+    for k in (48, 64, 100):
+        a, b = (1 + x) ** k, x**k - 1
+        assert xg._xgcd_modular(a, b) == a.xgcd(b)
+        c, d = (x - 1) ** k, x ** (k - 1) + 1
+        assert xg.xgcd(c, d) == c.xgcd(d)
+
+
+def test_xgcd_rejects_a_wrong_candidate():
+    # deliberate breakage: candidates off by one are refused by the exact check (the
+    # result then comes from more primes or from FLINT, and is still right)
+    x = flint.fmpq_poly([0, 1])
+    a, b = (1 + x) ** 60, x**60 - 1
+    real = xg._candidate
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(xg, "_candidate", lambda *args: real(*args) + 1)
+        assert xg._xgcd_modular(a, b) is None
+        assert xg.xgcd(a, b) == a.xgcd(b)
+
+
+def test_highdeg_hermite_identities():
+    M = PolyMatrix([["(1 + d)**64", "d**63 + 1"], ["d**64 - 1", "(d - 1)**64"]])
+    h = hermite(M)
+    assert h.U @ M == h.H
+    ref = hermite_by_elimination(M)
+    assert (h.H, h.U) == (ref.H, ref.U)
+    assert_unimodular(h.U)
