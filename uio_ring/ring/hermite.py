@@ -276,6 +276,12 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     )
 
 
+#: The integral elimination from this many entries of M on (the 6×4 of Zheng et al.:
+#: 0.096 ms against 0.091 ms over Q; 10×8 columns of a unimodular matrix: 0.88 against
+#: 0.96 ms; 22×20: 5.9 against 7.4 ms for the elimination and the normalisation).
+INTEGRAL_MIN_ENTRIES = 60
+
+
 def _echelon_integral(
     a: dn.Rows, m: int, n: int, cap: int | None, rows: dn.Rows | None = None
 ) -> tuple[dn.Rows, dn.Rows, list[int]] | None:
@@ -286,6 +292,8 @@ def _echelon_integral(
     rational elimination).  Raises :class:`CoefficientGrowth` when the elimination
     stops on ``cap``, with ``rows`` (when given) set to the half-eliminated rows at
     that point — the rows the rational elimination stops with."""
+    if m * n < INTEGRAL_MIN_ENTRIES:
+        return None
     z = zi.to_integer_rows(a)
     if z is None:
         return None
