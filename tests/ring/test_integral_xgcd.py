@@ -12,6 +12,8 @@ the multimodular xgcd: each fast path against the plain one it replaces.
 
 from __future__ import annotations
 
+import importlib
+
 import flint
 import pytest
 from hypothesis import assume, given
@@ -27,6 +29,8 @@ from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import hermite_by_elimination
 
 from .strategies import assert_unimodular, dense_matrices, heavy, unimodular_matrices
+
+hermite_module = importlib.import_module("uio_ring.ring.hermite")  # the module, not the function
 
 
 def _tall_unimodular_columns(draw, n: int, extra: int) -> PolyMatrix:
@@ -107,12 +111,13 @@ def test_integral_bit_cap_same_as_rational():
 def test_hermite_and_left_inverse_same_without_integral_path(data):
     n = data.draw(st.integers(1, 5))
     M = _tall_unimodular_columns(data.draw, n, data.draw(st.integers(1, 3)))
-    h = hermite(M)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", 0)
+        h, L = hermite(M), left_inverse(M)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(zi, "to_integer_rows", lambda a: None)
         h0 = hermite(M)
         L0 = left_inverse(M)
-    L = left_inverse(M)
     assert (h.H, h.U, h.rank, h.pivots) == (h0.H, h0.U, h0.rank, h0.pivots)
     assert L == L0
     assert h.U @ M == h.H
@@ -123,12 +128,42 @@ def test_hermite_and_left_inverse_same_without_integral_path(data):
 @heavy()
 @given(dense_matrices(min_rows=2, max_rows=6, min_cols=1, max_cols=4, rational=False))
 def test_hermite_by_elimination_same_without_integral_path(M):
-    h = hermite(M)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", 0)
+        h = hermite(M)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(zi, "to_integer_rows", lambda a: None)
         h0 = hermite(M)
     assert (h.H, h.U) == (h0.H, h0.U)
     assert h.U @ M == h.H
+
+
+def test_integral_path_on_the_benchmark_tall_shape():
+    # 12×10 columns of a unimodular matrix (above INTEGRAL_MIN_ENTRIES): the integral path
+    # runs, and agrees with the rational one
+    import random
+
+    rng = random.Random(3)
+    n = 10
+    L = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j < i else 0)
+                     for j in range(n + 2)] for i in range(n + 2)])
+    U = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j > i else 0)
+                     for j in range(n + 2)] for i in range(n + 2)])
+    M = (L @ U)[:, :n]
+    m = M.rows
+    z = zi.to_integer_rows(M._r)
+    zu = zi.identity(m)
+    pivots = zi.row_echelon_int(z, zu, m, n)
+    zi.normalise_int(z, zu, pivots)
+    a, u, _ = _plain(M)
+    assert (zi.to_rational_rows(z), zi.to_rational_rows(zu)) == (a, u)
+    h = hermite(M)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(zi, "to_integer_rows", lambda a: None)
+        h0 = hermite(M)
+    assert (h.H, h.U) == (h0.H, h0.U)
+    assert h.H[:n, :] == PolyMatrix.identity(n)
+    assert left_inverse(M) == h.U[:n, :]
 
 
 def test_left_inverse_errors_unchanged():
