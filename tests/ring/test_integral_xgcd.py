@@ -247,3 +247,37 @@ def test_highdeg_hermite_identities():
     ref = hermite_by_elimination(M)
     assert (h.H, h.U) == (ref.H, ref.U)
     assert_unimodular(h.U)
+
+
+@given(st.data())
+def test_packed_rows_follow_the_entrywise_operations(data):
+    # a small stride forces repacking: every operation is compared with the same
+    # operation on the unpacked rows
+    m = data.draw(st.integers(1, 4))
+    packed = zi.Packed(m, S=1)
+    plain = [[flint.fmpz_poly([1]) if i == j else flint.fmpz_poly() for j in range(m)] for i in range(m)]
+    small = st.lists(st.integers(-3, 3), min_size=0, max_size=4).map(flint.fmpz_poly)
+    for _ in range(data.draw(st.integers(0, 8))):
+        op = data.draw(st.sampled_from(["axpy", "swap", "negate", "combine"]))
+        i = data.draw(st.integers(0, m - 1))
+        j = data.draw(st.integers(0, m - 1))
+        if op == "axpy" and i != j:
+            q = data.draw(small)
+            packed.axpy(i, q, j)
+            plain[i] = [t - q * s for t, s in zip(plain[i], plain[j], strict=True)]
+        elif op == "swap":
+            packed.swap(i, j)
+            plain[i], plain[j] = plain[j], plain[i]
+        elif op == "negate":
+            packed.negate(i)
+            plain[i] = [-t for t in plain[i]]
+        elif op == "combine" and i != j:
+            s, t, xg, yg = (data.draw(small) for _ in range(4))
+            packed.combine(i, j, s, t, xg, yg)
+            rp, ri = plain[i], plain[j]
+            plain[i] = [s * e + t * f for e, f in zip(rp, ri, strict=True)]
+            plain[j] = [xg * f - yg * e for e, f in zip(rp, ri, strict=True)]
+        assert packed.entries() == plain
+        assert zi.to_rational_rows(packed) == [[flint.fmpq_poly(e) for e in row] for row in plain]
+        for k in range(m):
+            assert packed.row_bits(k) == max((int(e.height_bits()) + 1 for e in plain[k] if not e.is_zero()), default=0)
