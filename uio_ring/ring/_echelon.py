@@ -165,6 +165,12 @@ def normalise(a: dn.Rows, u: dn.Rows | None, pivots: list[int]) -> None:
                     dn.row_axpy(u, k, q, i)
 
 
+#: Below this many entries in the rows to reduce, :func:`reduce_transform` divides by the
+#: Popov basis itself (the 4×6 rows of a 6×4 tall matrix: the bookkeeping of the
+#: division through the kernel generators costs more than it can save).
+VIA_MIN_ENTRIES = 100
+
+
 def reduce_transform(u: dn.Rows, r: int, kernel: dn.Rows | None = None) -> None:
     """Lower the degree of a transform whose rows ``r:`` span a left kernel, in place.
 
@@ -180,7 +186,11 @@ def reduce_transform(u: dn.Rows, r: int, kernel: dn.Rows | None = None) -> None:
     if r >= len(u):
         return
     via = None
-    if kernel is None:
+    if kernel is None and r * len(u) < VIA_MIN_ENTRIES:
+        kern = u[r:]
+        dn.weak_popov(kern)
+        dn.popov(kern)
+    elif kernel is None:
         gens = dn.copy(u[r:])
         kern = u[r:]
         p = dn.identity(len(kern))
