@@ -13,9 +13,11 @@ integral), the same extended-gcd steps (computed over Q, accepted only when ever
 cofactor is integral) — on ``fmpz_poly`` entries, and raise :class:`NotIntegral` as
 soon as a step would leave Z[δ].  Since both are exact, a run that finishes gives
 exactly the rows of the rational elimination; a run that raises is redone over Q
-by the caller.  A matrix made of columns of a unimodular integer matrix (the
-``tall`` benchmark family) eliminates with unit pivots and integer quotients
-throughout: the elimination and the back substitution of a 22×20 run ≈ 3× faster.
+by the caller.  The transform's rows are packed (:class:`Packed`): one ``fmpz_poly``
+product per row operation.  A matrix made of columns of a unimodular integer matrix
+(the ``tall`` benchmark family) eliminates with unit pivots and integer quotients
+throughout: the elimination and the back substitution of a 22×20 take 2.7 + 1.1 ms
+(and 0.6 ms to convert back) instead of 4.0 + 3.2 ms over Q.
 
 Degrees: ``deg 0 = -1``.
 """

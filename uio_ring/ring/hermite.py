@@ -120,10 +120,15 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     prime with N = rows·(max minimal index + 1)); ``H_top = I`` when two compressed
     maximal minors are coprime, else from elimination without transform.
     Otherwise (and as the fallback): Euclidean elimination column by column with
-    least-degree pivots and a python-flint ``xgcd`` step when two rows are left
-    (:func:`~uio_ring.ring._echelon.row_echelon`), normalisation of the pivots,
-    and a Popov reduction of the kernel part of U (Mulders & Storjohann 2003;
-    one-step Popov division, :mod:`uio_ring.ring._division`).
+    least-degree pivots and an extended-gcd step when two rows are left
+    (:func:`~uio_ring.ring._echelon.row_echelon`; python-flint's ``xgcd``, by certified
+    Chinese remaindering from degree 48 on, :mod:`uio_ring.ring._xgcd`), normalisation
+    of the pivots, and a Popov reduction of the kernel part of U (Mulders & Storjohann
+    2003; one-step Popov division, :mod:`uio_ring.ring._division`).  For an integer M of
+    at least ``INTEGRAL_MIN_ENTRIES`` entries whose tall elimination stays in Z[δ]
+    (columns of a unimodular integer matrix) the elimination and the normalisation
+    run over Z[δ] with the transform's rows packed (:mod:`uio_ring.ring._integral`),
+    the same steps with the same exact result.
 
     Examples
     --------
@@ -237,7 +242,10 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     columns of a unimodular matrix: 22×20 of degree 2 ends with 22-bit
     coefficients), its transform is cheap, and the Popov basis of the left kernel
     follows from its last ``rows − rank`` rows by weak Popov reduction
-    (Mulders & Storjohann 2003) and normalisation (:func:`reduce_transform`);
+    (Mulders & Storjohann 2003) and normalisation (:func:`reduce_transform`; the
+    division of the top rows goes through the elimination's own kernel rows when
+    their coefficients are far smaller than those of the Popov basis);
+    the elimination runs over Z[δ] when it stays integral (:func:`_echelon_integral`);
     the result is the same H and U as from the Toeplitz nullspace, which costs
     O(N³) word operations per prime whatever the coefficients (40× slower there).
     Generic tall matrices swell to thousands of bits within a few columns: the
