@@ -253,8 +253,13 @@ def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int |
             if u is not None:
                 u.swap(p, r)
         pivots.append(j)
-        watch = [a[r], [a[i][j + 1] for i in range(r + 1, m)] if j + 1 < n else []]
-        if bit_cap is not None and max(_max_bits(watch), u.row_bits(r) if u is not None else 0) > bit_cap:
+        # the test of row_echelon (max_bits of a[r], of the column below and of u[r]
+        # above bit_cap), with _bits = height_bits + 1 for a nonzero entry
+        if bit_cap is not None and (
+            (u is not None and u.row_bits(r) > bit_cap)
+            or any(e.height_bits() >= bit_cap for e in a[r])
+            or (j + 1 < n and any(a[i][j + 1].height_bits() >= bit_cap for i in range(r + 1, m)))
+        ):
             raise CoefficientGrowth(f"elimination coefficients exceed {bit_cap} bits at column {j}")
         r += 1
     return pivots
