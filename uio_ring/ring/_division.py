@@ -92,6 +92,8 @@ class PopovDivisor:
     adj: dn.Rows
     #: ``(P, G)`` with ``P·G == basis`` exactly (see :meth:`of`), or None
     via: tuple[dn.Rows, dn.Rows] | None = None
+    #: the columns of the nonzero entries of each row the quotients multiply (basis or G)
+    support: tuple[tuple[int, ...], ...] = ()
 
     @staticmethod
     def of(basis: dn.Rows, via: tuple[dn.Rows, dn.Rows] | None = None) -> PopovDivisor:
@@ -106,7 +108,9 @@ class PopovDivisor:
         lead = [dn.leading_position(row) for row in basis]
         cols = tuple(j for _, j in lead)
         det, adj = adjugate([[row[c] for c in cols] for row in basis], len(basis))
-        return PopovDivisor(basis, cols, tuple(d for d, _ in lead), det, adj, via)
+        rows = basis if via is None else via[1]
+        support = tuple(tuple(c for c, e in enumerate(row) if not e.is_zero()) for row in rows)
+        return PopovDivisor(basis, cols, tuple(d for d, _ in lead), det, adj, via, support)
 
     def pending(self, row: list[flint.fmpq_poly]) -> bool:
         """True if some entry of ``row`` in a pivot column is not below its pivot degree."""
@@ -131,12 +135,14 @@ class PopovDivisor:
             p, rows = self.via
             qs = [sum((qs[i] * p[i][jj] for i in range(k) if not p[i][jj].is_zero()), bk.ZERO)
                   for jj in range(len(rows))]
-        for q, brow in zip(qs, rows, strict=True):
+        support = self.support or tuple(tuple(range(len(new))) for _ in rows)
+        for q, brow, cols in zip(qs, rows, support, strict=True):
             if q.is_zero():
                 continue
-            for c in range(len(new)):
-                if not brow[c].is_zero():
-                    new[c] = new[c] - q * brow[c]
+            for c in cols:
+                e = brow[c]
+                if not e.is_zero():
+                    new[c] = new[c] - q * e
         return new
 
 
