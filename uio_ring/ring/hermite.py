@@ -231,12 +231,16 @@ def _hermite_by_toeplitz(
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
 #: ``ELIMINATION_BITS + 4·(bits of M)`` bits (see :func:`_hermite_by_small_elimination`).
 ELIMINATION_BITS = 64
+#: Below this many entries of M the elimination runs without that cap: the cap only
+#: chooses between two paths to the same H and U, and on so few columns its test costs
+#: more than any swell it can stop (the 6×4 of Zheng et al.: 17 of 84 µs).
+CAP_MIN_ENTRIES = 40
 
 
 def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None) -> HermiteResult | None:
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
     None as soon as a coefficient of the elimination exceeds ``ELIMINATION_BITS +
-    4·max_bits(M)`` bits.
+    4·max_bits(M)`` bits (no cap below ``CAP_MIN_ENTRIES`` entries).
 
     When the Euclidean elimination keeps its coefficients small (a tall M made of
     columns of a unimodular matrix: 22×20 of degree 2 ends with 22-bit
@@ -260,7 +264,7 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, 1, -1]]))
     """
     m, n = M.shape
-    cap = ELIMINATION_BITS + 4 * max_bits(M._r)
+    cap = None if m * n < CAP_MIN_ENTRIES else ELIMINATION_BITS + 4 * max_bits(M._r)
     try:
         got = _echelon_integral(M._r, m, n, cap, rows)
     except CoefficientGrowth:
