@@ -24,7 +24,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring import _division as dv
 from uio_ring.ring import _integral as zi
 from uio_ring.ring import _xgcd as xg
-from uio_ring.ring._echelon import CoefficientGrowth, normalise, row_echelon
+from uio_ring.ring._echelon import normalise, row_echelon
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import hermite_by_elimination
 
@@ -85,25 +85,30 @@ def test_integral_path_is_taken_and_refused():
     assert zi.to_integer_rows(PolyMatrix([["d/2"]])._r) is None
 
 
-def test_integral_bit_cap_same_as_rational():
-    M = PolyMatrix([["3*d**2 + 5", "d + 7"], ["d", "4*d**2 - 1"], ["d**2 + 1", "2"]])
-    z = zi.to_integer_rows(M._r)
-    a = dn.copy(M._r)
-    for cap in range(1, 12):
-        try:
-            zi.row_echelon_int(zi.to_integer_rows(M._r), zi.identity(3), 3, 2, bit_cap=cap)
-            int_raised = False
-        except CoefficientGrowth:
-            int_raised = True
-        except zi.NotIntegral:
-            continue
-        try:
-            row_echelon(dn.copy(a), dn.identity(3), 3, 2, bit_cap=cap)
-            raised = False
-        except CoefficientGrowth:
-            raised = True
-        assert int_raised == raised, cap
-    assert z is not None
+def test_integral_bit_cap_same_results():
+    # wherever the (integral or rational) elimination stops on its growth cap, hermite and
+    # left_inverse finish on another path to the same H, U and L
+    import random
+
+    rng = random.Random(5)
+    n = 6
+    L = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j < i else 0)
+                     for j in range(n + 2)] for i in range(n + 2)])
+    U = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j > i else 0)
+                     for j in range(n + 2)] for i in range(n + 2)])
+    M = (L @ U)[:, :n]
+    ref = hermite_by_elimination(M)
+    ref_inverse = left_inverse(M)
+    for bits in (-60, -16, -14, -12, -10, -8, -6, -4, 0):
+        for integral in (0, 10**9):
+            with pytest.MonkeyPatch.context() as mp:
+                mp.setattr(hermite_module, "ELIMINATION_BITS", bits)
+                mp.setattr(hermite_module, "CAP_MIN_ENTRIES", 0)
+                mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", integral)
+                h = hermite(M)
+                X = left_inverse(M)
+            assert (h.H, h.U) == (ref.H, ref.U), (bits, integral)
+            assert X == ref_inverse
 
 
 @heavy()

@@ -264,14 +264,15 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, 1, -1]]))
     """
     m, n = M.shape
-    cap = None if m * n < CAP_MIN_ENTRIES else ELIMINATION_BITS + 4 * max_bits(M._r)
+    capped = m * n >= CAP_MIN_ENTRIES
     try:
-        got = _echelon_integral(M._r, m, n, cap, rows)
+        got = _echelon_integral(M._r, m, n, ELIMINATION_BITS if capped else None, rows)
     except CoefficientGrowth:
         return None
     if got is not None:
         a, u, pivots = got
     else:
+        cap = ELIMINATION_BITS + 4 * max_bits(M._r) if capped else None
         a = dn.copy(M._r) if rows is None else rows
         u = dn.identity(m)
         try:
@@ -295,21 +296,24 @@ INTEGRAL_MIN_ENTRIES = 60
 
 
 def _echelon_integral(
-    a: dn.Rows, m: int, n: int, cap: int | None, rows: dn.Rows | None = None
+    a: dn.Rows, m: int, n: int, cap_bits: int | None, rows: dn.Rows | None = None
 ) -> tuple[dn.Rows, dn.Rows, list[int]] | None:
     """:func:`row_echelon` with transform and :func:`normalise` of the m×n rows ``a``
     over Z[δ] (:mod:`uio_ring.ring._integral`: the same steps and the same exact
     result, without rational canonicalisations): ``(H rows, U rows, pivots)``; None
     when ``a`` has a denominator or a step leaves Z[δ] (then the caller runs the
     rational elimination).  Raises :class:`CoefficientGrowth` when the elimination
-    stops on ``cap``, with ``rows`` (when given) set to the half-eliminated rows at
-    that point — the rows the rational elimination stops with."""
+    stops on its cap ``cap_bits + 4·max_bits(a)`` (its own, lighter test; no cap when
+    ``cap_bits`` is None), with ``rows`` (when given) set to the
+    half-eliminated rows at that point: unimodular combinations of the rows of M, from
+    which the caller finishes H (unique) without transform."""
     if m * n < INTEGRAL_MIN_ENTRIES:
         return None
     z = zi.to_integer_rows(a)
     if z is None:
         return None
     uz = zi.identity(m)
+    cap = None if cap_bits is None else cap_bits + 4 * zi.max_bits(z)  # = max_bits(a)
     try:
         pivots = zi.row_echelon_int(z, uz, m, n, bit_cap=cap)
     except CoefficientGrowth:
