@@ -12,16 +12,21 @@ termination and a proof.  The cofactors ``s, t`` with ``s·a + t·b = g`` (g mon
 ``deg s < deg b − deg g`` and ``deg t < deg a − deg g`` are unique (``s`` is the inverse
 of ``a/g`` modulo ``b/g``), and FLINT returns exactly those (its ``_fmpz_poly_xgcd`` of the
 coprime C, D has ``len S < len D``, ``len T < len C``).  With ``R = res(C, D)``, the
-numerators ``R·s', R·t'`` of the cofactors of C, D are integer polynomials (Cramer's rule on
-the Sylvester matrix); modulo a word prime p that divides neither leading coefficient nor R,
-they are ``R_p·s_p, R_p·t_p`` from ``nmod_poly.xgcd`` and ``nmod_poly.resultant``.  The
-residues of a doubling number of primes are combined (one ``fmpz_mat`` product with the
-CRT weights) and lifted to the symmetric range; the candidate is accepted only when it
-satisfies ``s·a + t·b = g`` exactly with both degree bounds, which proves it is the unique
-pair above (otherwise more primes, up to FLINT's Hadamard bound, then FLINT's own ``xgcd``).
-Multimodular xgcd: von zur Gathen & Gerhard, *Modern Computer Algebra* (3rd ed.,
-2013), §6.11 and §5.10 (early termination); cost O(N·d²) word operations for N primes
-and degree d, plus the check (two products of degree d).
+numerator ``R·s'`` of the cofactor of C is an integer polynomial (Cramer's rule on the
+Sylvester matrix); modulo a word prime p that divides neither leading coefficient nor R
+it is ``R_p·s_p``, from ``nmod_poly.xgcd`` and ``nmod_poly.resultant``.  Prime by prime,
+a few of these integers (and R) are lifted by Garner's step; once none of them changed
+for one prime, all residues are combined (one ``fmpz_mat`` product with the CRT weights)
+and lifted to the symmetric range, and s follows.  The candidate is accepted only when
+``t = (g − s·a) / b`` is exact, with ``deg s < deg b − deg g`` and ``deg t < deg a − deg g``:
+then ``s·a + t·b = g`` with both degree bounds, which proves it is the unique pair above
+(otherwise more primes, up to FLINT's Hadamard bound, then FLINT's own ``xgcd``).
+Multimodular xgcd with early termination: von zur Gathen & Gerhard, *Modern Computer
+Algebra* (3rd ed., 2013), §6.11 and §5.10; cost O(N·d²) word operations for N primes and
+degree d, one CRT of N·d numbers, and the check (one product and one division of degree
+2d).  Benchmark 2×2 (cofactors of degree k − 2): k = 64 1.3 ms against FLINT's 2.0, k =
+128 6.6 against 17.9, k = 256 37 against 185; below degree :data:`MIN_DEGREE` FLINT's is
+faster (k = 32: 0.16 against 0.26 ms).
 """
 
 from __future__ import annotations
@@ -30,8 +35,7 @@ import flint
 
 __all__ = ["xgcd", "MIN_DEGREE"]
 
-#: Below this degree (of the smaller polynomial) FLINT's ``xgcd`` is used directly
-#: (k = 64 of the benchmark 2×2: 2 ms either way).
+#: Below this degree (of the smaller polynomial) FLINT's ``xgcd`` is used directly.
 MIN_DEGREE = 48
 
 _PRIMES: list[int] = []
