@@ -95,9 +95,10 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
                 for i in nz:
                     if i == p:
                         continue
-                    q, rem = divmod(a[i][j], a[p][j])
+                    q, rem = divmod(a[i][j], pj)
                     if rem.is_zero():  # the pivot divides: keep its row (Smith relies on it)
-                        dn.row_axpy(a, i, q, p, j)
+                        a[i][j] = rem  # = a_ij − q·a_pj
+                        dn.row_axpy(a, i, q, p, j + 1)
                         if u is not None:
                             dn.row_axpy(u, i, q, p)
                     else:
@@ -106,8 +107,9 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
             for i in nz:
                 if i == p:
                     continue
-                q = a[i][j] // pj
-                dn.row_axpy(a, i, q, p, j)
+                # a_ij − q·a_pj is the remainder: divmod gives it without a product
+                q, a[i][j] = divmod(a[i][j], pj)
+                dn.row_axpy(a, i, q, p, j + 1)
                 if u is not None:
                     dn.row_axpy(u, i, q, p)
         if not nz:
