@@ -116,7 +116,7 @@ def row_axpy(a: Rows, target: int, q: flint.fmpq_poly, source: int, start: int =
 
 
 def row_scale(a: Rows, i: int, c: flint.fmpq_poly) -> None:
-    a[i] = [x * c for x in a[i]]
+    a[i] = [x * c if x else x for x in a[i]]  # zero entries stay (the same zero)
 
 
 def row_degree(row: Sequence[flint.fmpq_poly]) -> int:

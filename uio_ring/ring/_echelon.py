@@ -154,15 +154,16 @@ def normalise(a: dn.Rows, u: dn.Rows | None, pivots: list[int]) -> None:
         c = bk.lc(a[k][j])
         if c != 1:
             inv = bk.const(1) / c
-            a[k] = [x * inv for x in a[k]]
+            a[k] = [x * inv if x else x for x in a[k]]  # zero entries stay (the same zero)
             if u is not None:
-                u[k] = [x * inv for x in u[k]]
+                u[k] = [x * inv if x else x for x in u[k]]
         for i in range(k + 1, r):
             ji = pivots[i]
             piv = a[i][ji]
             if a[k][ji].degree() >= piv.degree():
-                q = a[k][ji] // piv
-                dn.row_axpy(a, k, q, i, ji)
+                # the reduced entry is the remainder: divmod gives it without a product
+                q, a[k][ji] = divmod(a[k][ji], piv)
+                dn.row_axpy(a, k, q, i, ji + 1)
                 if u is not None:
                     dn.row_axpy(u, k, q, i)
 

@@ -34,6 +34,7 @@ __all__ = ["NotIntegral", "Packed", "identity", "to_integer_rows", "to_rational_
            "normalise_int"]
 
 IntRows = list[list[flint.fmpz_poly]]
+_ZERO = flint.fmpz_poly()
 
 
 
@@ -158,15 +159,16 @@ def _max_bits(rows: IntRows) -> int:
     return max((_bits(p) for row in rows for p in row if not p.is_zero()), default=0)
 
 
-def _quotient(x: flint.fmpz_poly, y: flint.fmpz_poly) -> flint.fmpz_poly:
-    """The Euclidean quotient of x by y over Q[δ], when it is integral."""
+def _quotient_remainder(x: flint.fmpz_poly, y: flint.fmpz_poly) -> tuple[flint.fmpz_poly, flint.fmpz_poly]:
+    """The Euclidean quotient q of x by y over Q[δ] and the remainder ``x − q·y``, when q
+    is integral (then so is the remainder); raises :class:`NotIntegral` otherwise."""
     c = y.leading_coefficient()
-    if c == 1 or c == -1:  # division by a unit leading coefficient stays in Z[δ]
-        return x // y
-    q = flint.fmpq_poly(x) // flint.fmpq_poly(y)
-    if q.denom() != 1:
+    if c == 1 or c == -1:
+        return divmod(x, y)
+    qq, rr = divmod(flint.fmpq_poly(x), flint.fmpq_poly(y))
+    if qq.denom() != 1:
         raise NotIntegral
-    return q.numer()
+    return qq.numer(), rr.numer()
 
 
 def _divmod(x: flint.fmpz_poly, y: flint.fmpz_poly) -> tuple[flint.fmpz_poly, bool]:
@@ -238,7 +240,8 @@ def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int |
                         continue
                     q, exact = _divmod(a[i][j], pj)
                     if exact:
-                        _axpy(a, i, q, p, j)
+                        a[i][j] = _ZERO  # = a_ij − q·a_pj
+                        _axpy(a, i, q, p, j + 1)
                         if u is not None:
                             u.axpy(i, q, p)
                     else:
@@ -247,8 +250,8 @@ def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int |
             for i in nz:
                 if i == p:
                     continue
-                q = _quotient(a[i][j], pj)
-                _axpy(a, i, q, p, j)
+                q, a[i][j] = _quotient_remainder(a[i][j], pj)  # the entry: a_ij − q·a_pj
+                _axpy(a, i, q, p, j + 1)
                 if u is not None:
                     u.axpy(i, q, p)
         if not nz:
@@ -289,8 +292,8 @@ def normalise_int(a: IntRows, u: Packed | None, pivots: list[int]) -> None:
             ji = pivots[i]
             piv = a[i][ji]
             if a[k][ji].degree() >= piv.degree():
-                q = _quotient(a[k][ji], piv)
-                _axpy(a, k, q, i, ji)
+                q, a[k][ji] = _quotient_remainder(a[k][ji], piv)  # the entry: a_kji − q·piv
+                _axpy(a, k, q, i, ji + 1)
                 if u is not None:
                     u.axpy(k, q, i)
 
