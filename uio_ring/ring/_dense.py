@@ -149,11 +149,12 @@ def weak_popov(a: Rows, u: Rows | None = None) -> list[int]:
     Invariant: every operation is ``a[i] -= c·δ^e·a[k]`` with ``deg a[i] ≥ deg a[k]``
     and the same leading position, which lowers the (degree, position) of row i.
     """
+    # each step changes one row: only its leading position is computed again
+    lead = [leading_position(row)[1] for row in a]
     while True:
         seen: dict[int, int] = {}
         conflict = None
-        for i, row in enumerate(a):
-            dg, j = leading_position(row)
+        for i, j in enumerate(lead):
             if j < 0:
                 continue
             if j in seen:
@@ -171,6 +172,7 @@ def weak_popov(a: Rows, u: Rows | None = None) -> list[int]:
         row_axpy(a, i, q, k)
         if u is not None:
             row_axpy(u, i, q, k)
+        lead[i] = leading_position(a[i])[1]
     nonzero = sorted(seen.values())  # the rows with a leading position
     rest = set(nonzero)
     order = nonzero + [i for i in range(len(a)) if i not in rest]

@@ -82,12 +82,12 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
             break
         # Loop invariant: rows r.. are zero in columns < j.
         while True:
-            nz = [i for i in range(r, m) if not a[i][j].is_zero()]
+            col = [(x.degree(), i) for i in range(r, m) if (x := a[i][j])]  # (degree, row), nonzero
+            nz = [i for _, i in col]
             if len(nz) <= 1:
                 break
-            degs = [a[i][j].degree() for i in nz]
-            least = min(degs)
-            ties = [i for i, d in zip(nz, degs, strict=True) if d == least]
+            least = min(col)[0]
+            ties = [i for d, i in col if d == least]
             # the row degree only breaks ties (it costs a pass over the row)
             p = ties[0] if len(ties) == 1 else min(ties, key=lambda i: (dn.row_degree(a[i]), i))
             pj = a[p][j]
