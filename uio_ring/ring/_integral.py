@@ -193,7 +193,7 @@ def _axpy(a: IntRows, target: int, q: flint.fmpz_poly, source: int, start: int =
 
 
 def _row_degree(row: list[flint.fmpz_poly]) -> int:
-    return max((e.degree() for e in row), default=-1)
+    return max([e.degree() for e in row], default=-1)
 
 
 def _integral(p: flint.fmpq_poly) -> flint.fmpz_poly:
