@@ -85,6 +85,32 @@ def test_integral_path_is_taken_and_refused():
     assert zi.to_integer_rows(PolyMatrix([["d/2"]])._r) is None
 
 
+def test_integral_quotient_remainder_non_unit_divisor():
+    # divisor 2δ + 1 (leading coefficient 2): integral quotient and remainder, or refused
+    d = flint.fmpz_poly([0, 1])
+    x, y = 4 * d**2 + 2 * d + 3, 2 * d + 1
+    q, r = zi._quotient_remainder(x, y)
+    assert (q, r) == (2 * d, flint.fmpz_poly([3])) and q * y + r == x
+    q, r = zi._quotient_remainder(x, d - 1)  # unit leading coefficient: over Z directly
+    assert q * (d - 1) + r == x and r.degree() < 1
+    with pytest.raises(zi.NotIntegral):
+        zi._quotient_remainder(d**2, y)  # quotient δ/2 − 1/4
+
+
+def test_integral_elimination_with_non_unit_pivots_equals_rational():
+    # three rows in the first column (the quotient-and-remainder step) with the pivot
+    # 2δ + 1 and integral quotients; the rows are those of the rational elimination, and
+    # the normalisation refuses the leading coefficient 2 (the caller finishes over Q)
+    M = PolyMatrix([["2*d + 1", 0], ["4*d + 2", 1], ["6*d + 3", "d"]])
+    z, uz = zi.to_integer_rows(M._r), zi.identity(3)
+    pivots = zi.row_echelon_int(z, uz, 3, 2)
+    ref_a, ref_u = dn.copy(M._r), dn.identity(3)
+    assert row_echelon(ref_a, ref_u, 3, 2) == pivots == [0, 1]
+    assert (zi.to_rational_rows(z), zi.to_rational_rows(uz)) == (ref_a, ref_u)
+    with pytest.raises(zi.NotIntegral):
+        zi.normalise_int(z, uz, pivots)
+
+
 def test_integral_bit_cap_same_results():
     # wherever the (integral or rational) elimination stops on its growth cap, hermite and
     # left_inverse finish on another path to the same H, U and L

@@ -126,3 +126,26 @@ def test_tall_hermite_and_left_inverse_equal_elimination(data):
     else:
         with pytest.raises(NotUnimodularError):
             left_inverse(M)
+
+
+@given(dense_matrices(min_rows=1, max_rows=6, min_cols=1, max_cols=5))
+def test_row_echelon_and_weak_popov_invariants(M):
+    # the eliminated entries are set from divmod's remainder and weak_popov recomputes
+    # only the changed row's leading position: the row operations still give u·M = a,
+    # a in echelon form, and the weak Popov rows have distinct leading positions
+    m, n = M.shape
+    a, u = dn.copy(M._r), dn.identity(m)
+    pivots = row_echelon(a, u, m, n)
+    assert dn.matmul(u, M._r, m, m, n) == a
+    for k, j in enumerate(pivots):
+        assert not a[k][j].is_zero() and all(a[i][j].is_zero() for i in range(k + 1, m))
+        assert all(e.is_zero() for e in a[k][:j])
+    assert all(e.is_zero() for row in a[len(pivots):] for e in row)
+    normalise(a, u, pivots)
+    assert dn.matmul(u, M._r, m, m, n) == a
+    b, p = dn.copy(M._r), dn.identity(m)
+    nz = dn.weak_popov(b, p)
+    assert dn.matmul(p, M._r, m, m, n) == b
+    leads = [dn.leading_position(b[i])[1] for i in nz]
+    assert len(set(leads)) == len(leads) and all(j >= 0 for j in leads)
+    assert all(e.is_zero() for row in b[len(nz):] for e in row)
