@@ -97,8 +97,10 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         # Elimination while its coefficients stay small: U·M = [I; 0] proves it, and
         # any other H proves that no left inverse exists (the errors are raised below).
         small = _hermite_by_small_elimination(M)
-        if small is not None and small.H[:n, :] == PolyMatrix.identity(n, M.var):
-            return small.U[:n, :]
+        # H[:n] = I exactly when the rank is n and every pivot (k, k) is a constant: H is
+        # normalised (pivots monic, so 1; entries above a pivot of lower degree, so 0)
+        if small is not None and small.rank == n and all(small.H._r[k][k].degree() == 0 for k in range(n)):
+            return PolyMatrix._new(small.U._r[:n], n, m, M.var)
     if m > n > 0 and small is None and rank_raw(M._r, m, n) == n:
         # A returned X is checked exactly (X·M = I), which itself proves that M is left
         # unimodular: two degree bounds first, and all of them only when the minors are
