@@ -116,13 +116,7 @@ def test_integral_bit_cap_same_results():
     # left_inverse finish on another path to the same H, U and L
     import random
 
-    rng = random.Random(5)
-    n = 6
-    L = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j < i else 0)
-                     for j in range(n + 2)] for i in range(n + 2)])
-    U = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j > i else 0)
-                     for j in range(n + 2)] for i in range(n + 2)])
-    M = (L @ U)[:, :n]
+    M = _seeded_tall_columns(random.Random(5), 6)
     ref = hermite_by_elimination(M)
     ref_inverse = left_inverse(M)
     for bits in (-60, -16, -14, -12, -10, -8, -6, -4, 0):
@@ -174,13 +168,8 @@ def test_integral_path_on_the_benchmark_tall_shape():
     # runs, and agrees with the rational one
     import random
 
-    rng = random.Random(3)
     n = 10
-    L = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j < i else 0)
-                     for j in range(n + 2)] for i in range(n + 2)])
-    U = PolyMatrix([[1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if j > i else 0)
-                     for j in range(n + 2)] for i in range(n + 2)])
-    M = (L @ U)[:, :n]
+    M = _seeded_tall_columns(random.Random(3), n)
     m = M.rows
     z = zi.to_integer_rows(M._r)
     zu = zi.identity(m)
@@ -312,3 +301,14 @@ def test_packed_rows_follow_the_entrywise_operations(data):
         assert zi.to_rational_rows(packed) == [[flint.fmpq_poly(e) for e in row] for row in plain]
         for k in range(m):
             assert packed.row_bits(k) == max((int(e.height_bits()) + 1 for e in plain[k] if not e.is_zero()), default=0)
+
+
+def _seeded_tall_columns(rng, n: int) -> PolyMatrix:
+    """The first n columns of L·U, with L unit lower and U unit upper triangular
+    (n + 2)×(n + 2) with entries of degree ≤ 1: a left-unimodular (n + 2)×n matrix."""
+    def entry(below: bool, i: int, j: int):
+        return 1 if i == j else (f"{rng.randint(-2, 2)}*d + {rng.randint(-2, 2)}" if (j < i) == below and i != j else 0)
+
+    L = PolyMatrix([[entry(True, i, j) for j in range(n + 2)] for i in range(n + 2)])
+    U = PolyMatrix([[entry(False, i, j) for j in range(n + 2)] for i in range(n + 2)])
+    return (L @ U)[:, :n]
