@@ -25,6 +25,7 @@ from .strategies import (
     heavy,
     matrices,
     paper_001_M,
+    rank_deficient_matrices,
     reference_rank,
     row_degrees,
     singular_at_sample_points,
@@ -296,3 +297,44 @@ def test_small_elimination_gives_way_when_coefficients_swell():
     h = check_hermite(M)
     ref = hermite_by_elimination(M)
     assert h.H == ref.H and h.U == ref.U
+
+
+@heavy()
+@given(st.data())
+def test_rank_deficient_full_elimination_equals_the_toeplitz_path(data):
+    """Rank-deficient M of 6..8 rows (H ≠ [I; 0]): hermite eliminates with transform (over
+    Z[δ], fraction free, from 60 entries on) instead of H by elimination plus the
+    Toeplitz kernel and solve; H and the reduced U are unique, so both give the same."""
+    import importlib
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    m = data.draw(st.integers(6, 8))
+    n = data.draw(st.integers(2, 10))
+    M = data.draw(rank_deficient_matrices(rows=m, cols=n))
+    h = check_hermite(M)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hermite_module, "FULL_ELIMINATION_BITS", -(10**6))  # the Toeplitz path
+        mp.setattr(hermite_module, "CAP_MIN_ENTRIES", 0)
+        ref = hermite(M)
+    assert (h.H, h.U, h.pivots) == (ref.H, ref.U, ref.pivots)
+    assert_popov(h.U[h.rank:, :])
+
+
+@given(st.integers(1, 5).flatmap(lambda n: dense_matrices(rows=n, cols=n, max_degree=3)))
+def test_pairwise_xgcd_elimination_gives_the_same_forms(M):
+    """Square M of ≤ 5 rows: pairwise extended-gcd steps (what hermite uses when M(0) is
+    nonsingular) and remainder passes give the same H, and for nonsingular M the same
+    (unique) U; for singular M the same U once the kernel rows are reduced."""
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring._echelon import normalise, reduce_transform, row_echelon
+    from uio_ring.ring.hermite import hermite_by_elimination
+
+    n = M.rows
+    a, u = dn.copy(M._r), dn.identity(n)
+    pivots = row_echelon(a, u, n, n, xgcd_rows=n)
+    normalise(a, u, pivots)
+    reduce_transform(u, len(pivots))
+    ref = hermite_by_elimination(M)
+    assert PolyMatrix._new(a, n, n, M.var) == ref.H == hermite(M).H
+    assert PolyMatrix._new(u, n, n, M.var) == ref.U == hermite(M).U
+    assert PolyMatrix._new(u, n, n, M.var) @ M == ref.H

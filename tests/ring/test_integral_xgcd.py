@@ -1,8 +1,9 @@
 """The integral elimination, the division through the elimination's kernel rows and
 the multimodular xgcd: each fast path against the plain one it replaces.
 
-- :mod:`uio_ring.ring._integral`: ``row_echelon_int`` + ``normalise_int`` give exactly the
-  rows of the rational ``row_echelon`` + ``normalise`` (or raise ``NotIntegral``);
+- :mod:`uio_ring.ring._integral`: ``row_echelon_int`` + ``normalise_int`` (fraction free)
+  give exactly the rows of the rational ``row_echelon`` + ``normalise`` (the kernel rows
+  of U up to a constant factor each);
   ``hermite`` / ``left_inverse`` with the integral path switched off give the same H, U, L.
 - :class:`uio_ring.ring._division.PopovDivisor` ``via=(P, G)`` gives the same remainders
   as the division by the Popov basis itself.
@@ -56,59 +57,89 @@ def _plain(M: PolyMatrix):
     return a, u, pivots
 
 
-@given(integer_matrices())
-def test_integral_elimination_equals_rational(M):
+def _fraction_free(M: PolyMatrix):
+    """The fraction-free elimination and normalisation of M: (H rows, U rows, pivots,
+    the integer rows and the packed integer transform after the elimination)."""
     m, n = M.shape
-    z, uz = zi.to_integer_rows(M._r), zi.identity(m)
-    assume(z is not None)
-    try:
-        pivots = zi.row_echelon_int(z, uz, m, n)
-        zi.normalise_int(z, uz, pivots)
-    except zi.NotIntegral:
-        return
-    a, u, ref_pivots = _plain(M)
+    z, scales = zi.to_integer_rows(M._r)
+    uz = zi.identity(m, scales)
+    pivots = zi.row_echelon_int(z, uz, m, n)
+    zi.normalise_int(z, uz, pivots)
+    divisors = zi.pivot_divisors(z, pivots)
+    return zi.to_rational_rows(z, divisors), zi.to_rational_rows(uz, divisors), pivots, z, uz
+
+
+def _proportional(x: list, y: list) -> bool:
+    """x = c·y for a nonzero rational constant c."""
+    k = next((i for i, e in enumerate(y) if not e.is_zero()), None)
+    if k is None:
+        return all(e.is_zero() for e in x)
+    c = flint.fmpq_poly([x[k].coeffs()[-1] / y[k].coeffs()[-1]])
+    return not c.is_zero() and all(e == c * f for e, f in zip(x, y, strict=True))
+
+
+@given(st.one_of(integer_matrices(), dense_matrices(min_rows=1, max_rows=6, min_cols=1, max_cols=5)))
+def test_fraction_free_elimination_equals_rational(M):
+    # the same pivots, H and the rows of U above the rank exactly; the kernel rows of U up
+    # to a constant factor each (a unit of Q[δ]); the integer rows before the final
+    # division: U_Z·M = H_Z exactly, and every row of [H_Z | U_Z] primitive or unscaled
+    m, n = M.shape
+    h, u, pivots, z, uz = _fraction_free(M)
+    a, ref_u, ref_pivots = _plain(M)
+    r = len(pivots)
     assert pivots == ref_pivots
-    assert zi.to_rational_rows(z) == a
-    assert zi.to_rational_rows(uz) == u
+    assert h == a
+    assert u[:r] == ref_u[:r]
+    assert all(_proportional(u[k], ref_u[k]) for k in range(r, m))
+    UZ = PolyMatrix._new(zi.to_rational_rows(uz), m, m, M.var)
+    assert UZ @ M == PolyMatrix._new(zi.to_rational_rows(z), m, n, M.var)
 
 
-def test_integral_path_is_taken_and_refused():
-    # columns of a unimodular integer matrix: integral throughout
+def test_integer_rows_scale_each_row_by_its_denominators():
+    z, scales = zi.to_integer_rows(PolyMatrix([["d/2", "1/3"], [1, "d"]])._r)
+    assert scales == [6, 1]
+    assert z == [[flint.fmpz_poly([0, 3]), flint.fmpz_poly([2])], [flint.fmpz_poly([1]), flint.fmpz_poly([0, 1])]]
+    assert zi.to_integer_rows(PolyMatrix([[1, "d"]])._r)[1] is None
+
+
+def test_columns_of_a_unimodular_matrix_eliminate_without_scaling():
+    # unit pivots throughout: every quotient integral, no row scaled (the transform stays
+    # an integer unimodular matrix with determinant ±1)
     M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"], [2, "d - 1"]])
-    z = zi.to_integer_rows(M._r)
-    pivots = zi.row_echelon_int(z, zi.identity(4), 4, 2)
-    assert pivots == [0, 1]
-    # a quotient 1/2: refused
-    N = PolyMatrix([["2*d + 1", 1], [2, 0], ["3*d", 1]])
-    with pytest.raises(zi.NotIntegral):
-        zi.row_echelon_int(zi.to_integer_rows(N._r), zi.identity(3), 3, 2)
-    assert zi.to_integer_rows(PolyMatrix([["d/2"]])._r) is None
+    z, scales = zi.to_integer_rows(M._r)
+    uz = zi.identity(4)
+    assert scales is None
+    assert zi.row_echelon_int(z, uz, 4, 2) == [0, 1]
+    U = PolyMatrix._new(zi.to_rational_rows(uz), 4, 4, M.var)
+    assert U.det().degree() == 0 and abs(U.det().coeffs()[0]) == 1
 
 
-def test_integral_quotient_remainder_non_unit_divisor():
-    # divisor 2δ + 1 (leading coefficient 2): integral quotient and remainder, or refused
+@given(st.lists(st.integers(-20, 20), min_size=1, max_size=6), st.lists(st.integers(-20, 20), min_size=1, max_size=4))
+def test_quotient_clears_the_least_denominator(xs, ys):
+    # D·x = Q·y + R with deg R < deg y, Q/D the rational quotient in lowest terms
+    x, y = flint.fmpz_poly(xs), flint.fmpz_poly(ys)
+    assume(not y.is_zero())
+    Q, D, R = zi._quotient(x, y)
+    assert D * x == Q * y + R and R.degree() < y.degree()
+    qq, _ = divmod(flint.fmpq_poly(x), flint.fmpq_poly(y))
+    assert flint.fmpq_poly(Q, D) == qq and qq.denom() == D
+
+
+def test_quotient_examples():
     d = flint.fmpz_poly([0, 1])
     x, y = 4 * d**2 + 2 * d + 3, 2 * d + 1
-    q, r = zi._quotient_remainder(x, y)
-    assert (q, r) == (2 * d, flint.fmpz_poly([3])) and q * y + r == x
-    q, r = zi._quotient_remainder(x, d - 1)  # unit leading coefficient: over Z directly
-    assert q * (d - 1) + r == x and r.degree() < 1
-    with pytest.raises(zi.NotIntegral):
-        zi._quotient_remainder(d**2, y)  # quotient δ/2 − 1/4
+    assert zi._quotient(x, y) == (2 * d, 1, flint.fmpz_poly([3]))  # integral quotient
+    Q, D, R = zi._quotient(d**2, y)  # quotient δ/2 − 1/4
+    assert (Q, D, R) == (2 * d - 1, 4, flint.fmpz_poly([1]))
 
 
-def test_integral_elimination_with_non_unit_pivots_equals_rational():
+def test_fraction_free_elimination_with_non_unit_pivots_equals_rational():
     # three rows in the first column (the quotient-and-remainder step) with the pivot
-    # 2δ + 1 and integral quotients; the rows are those of the rational elimination, and
-    # the normalisation refuses the leading coefficient 2 (the caller finishes over Q)
-    M = PolyMatrix([["2*d + 1", 0], ["4*d + 2", 1], ["6*d + 3", "d"]])
-    z, uz = zi.to_integer_rows(M._r), zi.identity(3)
-    pivots = zi.row_echelon_int(z, uz, 3, 2)
-    ref_a, ref_u = dn.copy(M._r), dn.identity(3)
-    assert row_echelon(ref_a, ref_u, 3, 2) == pivots == [0, 1]
-    assert (zi.to_rational_rows(z), zi.to_rational_rows(uz)) == (ref_a, ref_u)
-    with pytest.raises(zi.NotIntegral):
-        zi.normalise_int(z, uz, pivots)
+    # 2δ + 1; the normalisation divides by the pivots' leading coefficients at the end
+    M = PolyMatrix([["2*d + 1", 0], ["4*d + 2", 1], ["6*d + 3", "d"], ["d", "d**2/3"]])
+    h, u, pivots, _, _ = _fraction_free(M)
+    a, ref_u, ref_pivots = _plain(M)
+    assert (h, u[:2], pivots) == (a, ref_u[:2], ref_pivots)
 
 
 def test_integral_bit_cap_same_results():
@@ -140,7 +171,7 @@ def test_hermite_and_left_inverse_same_without_integral_path(data):
         mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", 0)
         h, L = hermite(M), left_inverse(M)
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(zi, "to_integer_rows", lambda a: None)
+        mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", 10**9)
         h0 = hermite(M)
         L0 = left_inverse(M)
     assert (h.H, h.U, h.rank, h.pivots) == (h0.H, h0.U, h0.rank, h0.pivots)
@@ -157,7 +188,7 @@ def test_hermite_by_elimination_same_without_integral_path(M):
         mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", 0)
         h = hermite(M)
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(zi, "to_integer_rows", lambda a: None)
+        mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", 10**9)
         h0 = hermite(M)
     assert (h.H, h.U) == (h0.H, h0.U)
     assert h.U @ M == h.H
@@ -170,16 +201,12 @@ def test_integral_path_on_the_benchmark_tall_shape():
 
     n = 10
     M = _seeded_tall_columns(random.Random(3), n)
-    m = M.rows
-    z = zi.to_integer_rows(M._r)
-    zu = zi.identity(m)
-    pivots = zi.row_echelon_int(z, zu, m, n)
-    zi.normalise_int(z, zu, pivots)
+    h_rows, u_rows, _, _, _ = _fraction_free(M)
     a, u, _ = _plain(M)
-    assert (zi.to_rational_rows(z), zi.to_rational_rows(zu)) == (a, u)
+    assert h_rows == a and u_rows[:n] == u[:n]
     h = hermite(M)
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(zi, "to_integer_rows", lambda a: None)
+        mp.setattr(hermite_module, "INTEGRAL_MIN_ENTRIES", 10**9)
         h0 = hermite(M)
     assert (h.H, h.U) == (h0.H, h0.U)
     assert h.H[:n, :] == PolyMatrix.identity(n)
@@ -278,7 +305,7 @@ def test_packed_rows_follow_the_entrywise_operations(data):
     plain = [[flint.fmpz_poly([1]) if i == j else flint.fmpz_poly() for j in range(m)] for i in range(m)]
     small = st.lists(st.integers(-3, 3), min_size=0, max_size=4).map(flint.fmpz_poly)
     for _ in range(data.draw(st.integers(0, 8))):
-        op = data.draw(st.sampled_from(["axpy", "swap", "negate", "combine"]))
+        op = data.draw(st.sampled_from(["axpy", "swap", "scale", "combine"]))
         i = data.draw(st.integers(0, m - 1))
         j = data.draw(st.integers(0, m - 1))
         if op == "axpy" and i != j:
@@ -288,9 +315,14 @@ def test_packed_rows_follow_the_entrywise_operations(data):
         elif op == "swap":
             packed.swap(i, j)
             plain[i], plain[j] = plain[j], plain[i]
-        elif op == "negate":
-            packed.negate(i)
-            plain[i] = [-t for t in plain[i]]
+        elif op == "scale" and i != j:
+            q, c = data.draw(small), data.draw(st.integers(-3, 3).filter(bool))
+            packed.axpy(i, q, j, flint.fmpz(c))
+            plain[i] = [c * t - q * s for t, s in zip(plain[i], plain[j], strict=True)]
+            g = packed.content(i)
+            if g > 1:
+                packed.divide(i, g)
+                plain[i] = [t // g for t in plain[i]]
         elif op == "combine" and i != j:
             s, t, xg, yg = (data.draw(small) for _ in range(4))
             packed.combine(i, j, s, t, xg, yg)

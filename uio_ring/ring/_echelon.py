@@ -48,7 +48,9 @@ def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
         rows[i] = [xg * f - yg * e for e, f in zip(rp, ri, strict=True)]
 
 
-def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | None = None) -> list[int]:
+def row_echelon(
+    a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | None = None, xgcd_rows: int = 2
+) -> list[int]:
     """Row echelon form of ``a`` in place (unimodular row operations, mirrored on ``u``).
 
     Returns the pivot columns; rows ``0..len(pivots)-1`` are nonzero, the others
@@ -69,7 +71,13 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
     k = 128).  Both give the same second row up to a constant, and Bézout
     cofactors of least degree.  With three or more rows the others are reduced by
     their quotient (one Euclidean division each): pairwise xgcd steps there
-    multiply whole rows by cofactors and the degrees grow without bound.
+    multiply whole rows by cofactors and the degrees grow without bound —
+    unless the matrix is small: ``xgcd_rows`` (default 2) takes the extended-gcd
+    steps as soon as at most that many rows are left, pairwise from the pivot (as
+    SageMath's ``_hermite_form_euclidean`` always does); :func:`~uio_ring.ring.hermite.hermite`
+    asks for it on square nonsingular matrices of at most 5 rows, where one xgcd step
+    per row costs less than the passes of remainders (4×4 of degree 5: 0.30 → 0.20 ms)
+    and the transform is unique, so the cofactors do not leave it larger.
     A pivot that divides an entry eliminates it by one division instead, and its
     row stays unchanged: then the alternating row/column passes of the Smith form
     keep the degree of the corner entry falling until it divides its row and
@@ -90,11 +98,11 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
             ties = [i for d, i in col if d == least]
             # the row degree only breaks ties (it costs a pass over the row)
             p = ties[0] if len(ties) == 1 else min(ties, key=lambda i: (dn.row_degree(a[i]), i))
-            pj = a[p][j]
-            if len(nz) == 2:
+            if len(nz) <= xgcd_rows:
                 for i in nz:
                     if i == p:
                         continue
+                    pj = a[p][j]  # changed by an xgcd step with an earlier row
                     q, rem = divmod(a[i][j], pj)
                     if rem.is_zero():  # the pivot divides: keep its row (Smith relies on it)
                         a[i][j] = rem  # = a_ij − q·a_pj
@@ -104,6 +112,7 @@ def row_echelon(a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | No
                     else:
                         _xgcd_step(a, u, p, i, j)
                 continue
+            pj = a[p][j]
             for i in nz:
                 if i == p:
                     continue

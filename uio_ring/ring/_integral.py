@@ -1,23 +1,35 @@
-"""Row echelon form and its normalisation over Z[δ], for integer matrices whose
-elimination over Q[δ] never leaves the integers.
+"""Row echelon form and its normalisation over Z[δ], fraction free.
 
 :func:`~uio_ring.ring._echelon.row_echelon` and :func:`~uio_ring.ring._echelon.normalise`
 work on ``fmpq_poly``; every operation there pays for a rational canonicalisation
 (content and denominator gcds), which dominates on the small entries of an
-elimination: python-flint's ``fmpq_poly`` subtraction of two degree-29 polynomials
-costs ≈ 1.1 µs, the ``fmpz_poly`` one ≈ 0.16 µs.  The functions here repeat the same
-elimination step for step — the same pivot choices (degrees and row degrees are
-the same over Z), the same quotients (Euclidean quotients over Q[δ], computed over
-Z when the divisor's leading coefficient is ±1, else over Q and accepted only when
-integral), the same extended-gcd steps (computed over Q, accepted only when every
-cofactor is integral) — on ``fmpz_poly`` entries, and raise :class:`NotIntegral` as
-soon as a step would leave Z[δ].  Since both are exact, a run that finishes gives
-exactly the rows of the rational elimination; a run that raises is redone over Q
-by the caller.  The transform's rows are packed (:class:`Packed`): one ``fmpz_poly``
-product per row operation.  A matrix made of columns of a unimodular integer matrix
-(the ``tall`` benchmark family) eliminates with unit pivots and integer quotients
-throughout: the elimination and the back substitution of a 22×20 take 2.7 + 1.1 ms
-(and 0.6 ms to convert back) instead of 4.0 + 3.2 ms over Q.
+elimination: python-flint's ``fmpq_poly`` ``a − b·c`` on degree-7 polynomials with
+20-bit coefficients costs ≈ 3 µs with denominators and ≈ 0.45 µs on ``fmpz_poly``.
+The functions here repeat the same elimination step for step on integer rows, each
+row a nonzero rational multiple of the row of the rational elimination (a constant
+is a unit of Q[δ], so scaling a row of ``[M | U]`` keeps U unimodular): the same pivot
+choices (degrees and row degrees do not see the scaling), the same quotients and
+extended-gcd steps with their denominators cleared —
+
+* a quotient ``q = Q/D`` of ``x`` by ``y`` (Euclidean, over Q[δ]; D = 1 when the
+  divisor's leading coefficient is ±1) becomes ``row_i ← D·row_i − Q·row_p``, the
+  integral form of the pseudo-division of Collins (1967) and Brown (1971) with the
+  least multiplier D rather than ``lc(y)^(deg x − deg y + 1)``;
+* the xgcd step ``[[s, t], [−y/g, x/g]]`` becomes ``[[D₁s, D₁t], [−D₂y/g, D₂x/g]]``
+  (determinant ``D₁D₂``, a unit);
+* a row scaled by some D ≠ 1 is divided by its content (the gcd of all its
+  coefficients, in M's and in U's part), so that it is the primitive integer form of
+  the rational row: no larger than the rational row with a common denominator.
+
+The pivots are not made monic on the way: :func:`to_rational_rows` divides each
+pivot row by its pivot's leading coefficient at the end, which gives exactly the rows
+of the rational elimination and normalisation (H normalised; the rows of U
+that belong to H's nonzero rows).  The rows of U that belong to zero rows of H (a
+basis of the left kernel) are rational multiples of the rational elimination's;
+callers replace them by their Popov form, which is unique.  A matrix made of columns
+of a unimodular integer matrix (the ``tall`` benchmark family) eliminates with unit
+pivots and integer quotients throughout: no scaling at all.  The transform's rows are
+packed (:class:`Packed`): one ``fmpz_poly`` product per row operation.
 
 Degrees: ``deg 0 = -1``.
 """
@@ -30,42 +42,57 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import CoefficientGrowth
 
-__all__ = ["NotIntegral", "Packed", "identity", "to_integer_rows", "to_rational_rows", "row_echelon_int",
-           "normalise_int"]
+__all__ = ["Packed", "identity", "to_integer_rows", "to_rational_rows", "row_echelon_int", "normalise_int"]
 
 IntRows = list[list[flint.fmpz_poly]]
 _ZERO = flint.fmpz_poly()
+_ONE = flint.fmpz(1)
 
 
+def to_integer_rows(a: dn.Rows) -> tuple[IntRows, list[flint.fmpz] | None]:
+    """The rows as ``fmpz_poly``, each multiplied by the least common denominator of its
+    entries: ``(rows, scales)``, ``scales`` None when every row is integral already.
 
-class NotIntegral(Exception):
-    """A step of the elimination would leave Z[δ] (the caller redoes it over Q)."""
-
-
-def to_integer_rows(a: dn.Rows) -> IntRows | None:
-    """The rows as ``fmpz_poly``, or None when an entry has a denominator."""
+    >>> z, c = to_integer_rows([[bk.from_coeffs([flint.fmpq(1, 2), 1])], [bk.ONE]])
+    >>> z, c
+    ([[2*x + 1]], [2, 1])
+    """
     out: IntRows = []
+    scales: list[flint.fmpz] = []
     for row in a:
-        zrow = []
+        den = _ONE
         for e in row:
-            if e.denom() != 1:
-                return None
-            zrow.append(e.numer())
-        out.append(zrow)
+            q = e.denom()
+            if q != 1:
+                den = den * q // den.gcd(q)
+        scales.append(den)
+        out.append([e.numer() if den == 1 else (e * den).numer() for e in row])
+    return out, (scales if any(c != 1 for c in scales) else None)
+
+
+def to_rational_rows(z: IntRows | Packed, divisors: list[flint.fmpz] | None = None) -> dn.Rows:
+    """The rows as ``fmpq_poly`` (new objects), row k divided by ``divisors[k]`` for
+    ``k < len(divisors)``."""
+    if isinstance(z, Packed):
+        return z.rational_rows(divisors)
+    divisors = divisors or []
+    out = []
+    for k, row in enumerate(z):
+        c = divisors[k] if k < len(divisors) else _ONE
+        out.append([flint.fmpq_poly(e, c) if not e.is_zero() else bk.ZERO for e in row])
     return out
 
 
-def to_rational_rows(z: IntRows | Packed) -> dn.Rows:
-    """The rows as ``fmpq_poly`` (new objects)."""
-    if isinstance(z, Packed):
-        return z.rational_rows()
-    return [[flint.fmpq_poly(e) if not e.is_zero() else bk.ZERO for e in row] for row in z]
+def pivot_divisors(a: IntRows, pivots: list[int]) -> list[flint.fmpz]:
+    """The leading coefficients of the pivots: dividing pivot row k by the k-th makes its
+    pivot monic (:func:`to_rational_rows`)."""
+    return [a[k][j].leading_coefficient() for k, j in enumerate(pivots)]
 
 
 class Packed:
     """The rows of an integer polynomial matrix (the transform U of an elimination), each
     packed into one ``fmpz_poly`` by Kronecker substitution: row i is
-    ``Σ_c U[i][c]·x^(c·S)``.  A row operation ``U[t] −= q·U[s]`` is then one product and
+    ``Σ_c U[i][c]·x^(c·S)``.  A row operation ``U[t] ← D·U[t] − q·U[s]`` is then one product and
     one subtraction in C instead of one per entry (tall 18×16: the transform's share of
     the elimination and normalisation 2.0 → ≈ 1 ms).  ``deg[i]`` bounds the degree of every
     entry of row i; an operation that could reach ``S`` first repacks with a larger S, so
@@ -74,10 +101,11 @@ class Packed:
 
     __slots__ = ("rows", "deg", "S", "m")
 
-    def __init__(self, m: int, S: int = 32) -> None:
+    def __init__(self, m: int, S: int = 32, diagonal: list[flint.fmpz] | None = None) -> None:
         self.m, self.S = m, S
         one = flint.fmpz_poly([1])
-        self.rows = [one.left_shift(i * S) for i in range(m)]
+        self.rows = [(one if diagonal is None else flint.fmpz_poly([diagonal[i]])).left_shift(i * S)
+                     for i in range(m)]
         self.deg = [0] * m
 
     def _repack(self, need: int) -> None:
@@ -86,12 +114,13 @@ class Packed:
         self.S = S
         self.rows = [_pack(row, S) for row in ents]
 
-    def axpy(self, t: int, q: flint.fmpz_poly, s: int) -> None:
-        """``U[t] −= q·U[s]``."""
+    def axpy(self, t: int, q: flint.fmpz_poly, s: int, scale: flint.fmpz = _ONE) -> None:
+        """``U[t] ← scale·U[t] − q·U[s]``."""
         d = q.degree() + self.deg[s]
         if d >= self.S:
             self._repack(d)
-        self.rows[t] = self.rows[t] - q * self.rows[s]
+        rt = self.rows[t] if scale == 1 else self.rows[t] * scale
+        self.rows[t] = rt - q * self.rows[s]
         if d > self.deg[t]:
             self.deg[t] = d
 
@@ -99,8 +128,12 @@ class Packed:
         self.rows[i], self.rows[j] = self.rows[j], self.rows[i]
         self.deg[i], self.deg[j] = self.deg[j], self.deg[i]
 
-    def negate(self, i: int) -> None:
-        self.rows[i] = -self.rows[i]
+    def content(self, i: int) -> flint.fmpz:
+        return self.rows[i].content()
+
+    def divide(self, i: int, g: flint.fmpz) -> None:
+        """``U[i] ← U[i]/g`` (exact: g divides every coefficient)."""
+        self.rows[i] = self.rows[i] // g
 
     def combine(self, p: int, i: int, s: flint.fmpz_poly, t: flint.fmpz_poly,
                 xg: flint.fmpz_poly, yg: flint.fmpz_poly) -> None:
@@ -126,12 +159,14 @@ class Packed:
         return [[r.truncate(S) if c == 0 else r.right_shift(c * S).truncate(S) for c in range(m)]
                 for r in self.rows]
 
-    def rational_rows(self) -> dn.Rows:
-        """The rows, unpacked as ``fmpq_poly``."""
+    def rational_rows(self, divisors: list[flint.fmpz] | None = None) -> dn.Rows:
+        """The rows, unpacked as ``fmpq_poly``, row k divided by ``divisors[k]`` for
+        ``k < len(divisors)``."""
         S, m = self.S, self.m
+        divisors = divisors or []
         out = []
-        for r in self.rows:
-            q = flint.fmpq_poly(r)
+        for k, r in enumerate(self.rows):
+            q = flint.fmpq_poly(r, divisors[k]) if k < len(divisors) else flint.fmpq_poly(r)
             out.append([q.truncate(S) if c == 0 else q.right_shift(c * S).truncate(S) for c in range(m)])
         return out
 
@@ -159,67 +194,94 @@ def _max_bits(rows: IntRows) -> int:
     return max((_bits(p) for row in rows for p in row if not p.is_zero()), default=0)
 
 
-def _quotient_remainder(x: flint.fmpz_poly, y: flint.fmpz_poly) -> tuple[flint.fmpz_poly, flint.fmpz_poly]:
-    """The Euclidean quotient q of x by y over Q[δ] and the remainder ``x − q·y``, when q
-    is integral (then so is the remainder); raises :class:`NotIntegral` otherwise."""
+def _quotient(x: flint.fmpz_poly, y: flint.fmpz_poly) -> tuple[flint.fmpz_poly, flint.fmpz, flint.fmpz_poly]:
+    """``(Q, D, R)`` with ``D·x = Q·y + R``: ``Q/D`` the Euclidean quotient of x by y over
+    Q[δ] in lowest terms (D ≥ 1; D = 1 when y's leading coefficient is ±1) and ``R/D``
+    the remainder.
+
+    >>> x, y = flint.fmpz_poly([1, 0, 1]), flint.fmpz_poly([1, 2])  # δ² + 1 by 2δ + 1
+    >>> _quotient(x, y)                                              # q = δ/2 − 1/4
+    (2*x + (-1), 4, 5)
+    """
     c = y.leading_coefficient()
     if c == 1 or c == -1:
-        return divmod(x, y)
+        q, r = divmod(x, y)
+        return q, _ONE, r
     qq, rr = divmod(flint.fmpq_poly(x), flint.fmpq_poly(y))
-    if qq.denom() != 1:
-        raise NotIntegral
-    return qq.numer(), rr.numer()
+    D = qq.denom()
+    return qq.numer(), D, (rr.numer() if D == 1 else (rr * D).numer())
 
 
-def _divmod(x: flint.fmpz_poly, y: flint.fmpz_poly) -> tuple[flint.fmpz_poly, bool]:
-    """(quotient over Q[δ], remainder is zero); raises when the quotient is not integral."""
-    c = y.leading_coefficient()
-    if c == 1 or c == -1:
-        q, rem = divmod(x, y)
-        return q, rem.is_zero()
-    qq, rr = divmod(flint.fmpq_poly(x), flint.fmpq_poly(y))
-    if qq.denom() != 1:
-        raise NotIntegral
-    return qq.numer(), rr.is_zero()
+def _scaled_axpy(a: IntRows, u: Packed | None, t: int, D: flint.fmpz, q: flint.fmpz_poly, s: int,
+                 j: int) -> None:
+    """``row_t ← D·row_t − q·row_s`` on ``[a | u]``, column j of ``a`` excepted (the caller
+    sets it: the remainder).  Precondition: row s of ``a`` is zero left of column j."""
+    rt, rs = a[t], a[s]
+    if D != 1:
+        for c in range(len(rt)):
+            if c != j and not rt[c].is_zero():
+                rt[c] = rt[c] * D
+    for c in range(j + 1, len(rt)):
+        e = rs[c]
+        if not e.is_zero():
+            rt[c] = rt[c] - q * e
+    if u is not None:
+        u.axpy(t, q, s, D)
+    if D != 1:
+        _make_primitive(a, u, t)
 
 
-def _axpy(a: IntRows, target: int, q: flint.fmpz_poly, source: int, start: int = 0) -> None:
-    """``a[target] -= q * a[source]`` on columns ``start:`` (:func:`~uio_ring.ring._dense.row_axpy`)."""
-    rt, rs = a[target], a[source]
-    for j in range(start, len(rt)):
-        s = rs[j]
-        if not s.is_zero():
-            rt[j] = rt[j] - q * s
+def _make_primitive(a: IntRows, u: Packed | None, i: int) -> None:
+    """Divide row i of ``[a | u]`` by the gcd of all its coefficients."""
+    g = flint.fmpz(0)
+    for e in a[i]:
+        if not e.is_zero():
+            g = g.gcd(e.content())
+            if g == 1:
+                return
+    if u is not None:
+        g = g.gcd(u.content(i))
+    if g > 1:
+        a[i] = [e // g if not e.is_zero() else e for e in a[i]]
+        if u is not None:
+            u.divide(i, g)
 
 
 def _row_degree(row: list[flint.fmpz_poly]) -> int:
     return max([e.degree() for e in row], default=-1)
 
 
-def _integral(p: flint.fmpq_poly) -> flint.fmpz_poly:
-    if p.denom() != 1:
-        raise NotIntegral
-    return p.numer()
+def _cleared(s: flint.fmpq_poly, t: flint.fmpq_poly) -> tuple[flint.fmpz_poly, flint.fmpz_poly, flint.fmpz]:
+    """``(D·s, D·t, D)`` with D the least common denominator of s and t."""
+    ds, dt = s.denom(), t.denom()
+    D = ds * dt // ds.gcd(dt)
+    if D == 1:
+        return s.numer(), t.numer(), D
+    return (s * D).numer(), (t * D).numer(), D
 
 
 def _xgcd_step(a: IntRows, u: Packed | None, p: int, i: int, j: int) -> None:
     """:func:`uio_ring.ring._echelon._xgcd_step` (the same cofactors, from python-flint's
-    ``xgcd`` over Q), when they are all integral."""
+    ``xgcd`` over Q) with the denominators of each new row cleared."""
     x, y = flint.fmpq_poly(a[p][j]), flint.fmpq_poly(a[i][j])
-    g, s, t = bk.xgcd(x, y)
-    xg, yg = _integral(x // g), _integral(y // g)
-    s, t = _integral(s), _integral(t)
+    g, s0, t0 = bk.xgcd(x, y)
+    s, t, D1 = _cleared(s0, t0)
+    xg, yg, D2 = _cleared(x // g, y // g)
     rp, ri = a[p], a[i]
     a[p] = [s * e + t * f for e, f in zip(rp, ri, strict=True)]
     a[i] = [xg * f - yg * e for e, f in zip(rp, ri, strict=True)]
     if u is not None:
         u.combine(p, i, s, t, xg, yg)
+    if D1 != 1:
+        _make_primitive(a, u, p)
+    if D2 != 1:
+        _make_primitive(a, u, i)
 
 
 def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int | None = None) -> list[int]:
     """:func:`uio_ring.ring._echelon.row_echelon` over Z[δ], step for step (same pivots,
-    same operations; a lighter :class:`CoefficientGrowth` test, see below); raises
-    :class:`NotIntegral` (``a`` and ``u`` half transformed) when a step would leave Z[δ]."""
+    same operations up to a constant factor per row; a lighter :class:`CoefficientGrowth`
+    test, see below)."""
     r = 0
     pivots: list[int] = []
     for j in range(n):
@@ -238,22 +300,18 @@ def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int |
                 for i in nz:
                     if i == p:
                         continue
-                    q, exact = _divmod(a[i][j], pj)
-                    if exact:
-                        a[i][j] = _ZERO  # = a_ij − q·a_pj
-                        _axpy(a, i, q, p, j + 1)
-                        if u is not None:
-                            u.axpy(i, q, p)
+                    q, D, rem = _quotient(a[i][j], pj)
+                    if rem.is_zero():
+                        a[i][j] = _ZERO  # the pivot divides: keep its row (as over Q)
+                        _scaled_axpy(a, u, i, D, q, p, j)
                     else:
                         _xgcd_step(a, u, p, i, j)
                 continue
             for i in nz:
                 if i == p:
                     continue
-                q, a[i][j] = _quotient_remainder(a[i][j], pj)  # the entry: a_ij − q·a_pj
-                _axpy(a, i, q, p, j + 1)
-                if u is not None:
-                    u.axpy(i, q, p)
+                q, D, a[i][j] = _quotient(a[i][j], pj)  # the entry: D·a_ij − q·a_pj
+                _scaled_axpy(a, u, i, D, q, p, j)
         if not nz:
             continue
         p = nz[0]
@@ -265,7 +323,7 @@ def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int |
         # the growth test: the transform's new pivot row (one packed polynomial) and the
         # pivot — lighter than row_echelon's (which also watches the rest of the pivot
         # row and the next column); the cap only chooses between two paths to the same
-        # H and U, and an elimination that stays in Z[δ] has no rational swell
+        # H and U
         if bit_cap is not None and (
             (u is not None and u.row_bits(r) > bit_cap) or a[r][j].height_bits() >= bit_cap
         ):
@@ -275,29 +333,21 @@ def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int |
 
 
 def normalise_int(a: IntRows, u: Packed | None, pivots: list[int]) -> None:
-    """:func:`uio_ring.ring._echelon.normalise` over Z[δ], step for step; raises
-    :class:`NotIntegral` (rows half normalised) when a pivot's leading coefficient is
-    not ±1 or a quotient is not integral."""
+    """:func:`uio_ring.ring._echelon.normalise` over Z[δ], step for step, without making
+    the pivots monic (:func:`to_rational_rows` with :func:`pivot_divisors` does that):
+    bottom-up, the entries of row k above the pivots of rows k+1, … reduced by those
+    rows (``row_k ← D·row_k − Q·row_i``, :func:`_quotient`)."""
     r = len(pivots)
     for k in range(r - 1, -1, -1):
-        j = pivots[k]
-        c = a[k][j].leading_coefficient()
-        if c != 1:
-            if c != -1:
-                raise NotIntegral
-            a[k] = [-x for x in a[k]]
-            if u is not None:
-                u.negate(k)
         for i in range(k + 1, r):
             ji = pivots[i]
             piv = a[i][ji]
             if a[k][ji].degree() >= piv.degree():
-                q, a[k][ji] = _quotient_remainder(a[k][ji], piv)  # the entry: a_kji − q·piv
-                _axpy(a, k, q, i, ji + 1)
-                if u is not None:
-                    u.axpy(k, q, i)
+                q, D, a[k][ji] = _quotient(a[k][ji], piv)  # the entry: D·a_kji − q·piv
+                _scaled_axpy(a, u, k, D, q, i, ji)
 
 
-def identity(m: int) -> Packed:
-    """The m×m identity, packed (the transform of an elimination)."""
-    return Packed(m)
+def identity(m: int, diagonal: list[flint.fmpz] | None = None) -> Packed:
+    """The m×m identity (or the diagonal matrix ``diagonal``), packed: the transform of an
+    elimination of rows that were scaled by ``diagonal`` (:func:`to_integer_rows`)."""
+    return Packed(m, diagonal=diagonal)

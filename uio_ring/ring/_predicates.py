@@ -38,11 +38,24 @@ from uio_ring.ring._modular import coprime_dets_mod_p
 __all__ = [
     "rank_raw",
     "det_raw",
+    "full_rank_at_zero",
     "is_unimodular_raw",
     "is_hermite_raw",
     "is_smith_raw",
     "coprime_maximal_minors",
 ]
+
+
+def full_rank_at_zero(a: dn.Rows, m: int, n: int) -> bool:
+    """True if the constant coefficient M(0) has rank min(m, n) — then so has M (a
+    sufficient test, one rational rank of the constant terms).
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d = bk.from_coeffs([0, 1])
+    >>> full_rank_at_zero([[d + 1, d], [d, d + 1]], 2, 2), full_rank_at_zero([[d]], 1, 1)
+    (True, False)
+    """
+    return bk.mat_rank(flint.fmpq_mat(m, n, [p[0] for r in a for p in r])) == min(m, n)
 
 
 def rank_raw(a: dn.Rows, m: int, n: int) -> int:
@@ -51,7 +64,7 @@ def rank_raw(a: dn.Rows, m: int, n: int) -> int:
     if m == 0 or n == 0 or all(p.is_zero() for r in a for p in r):
         return 0
     top = min(m, n)
-    if bk.mat_rank(flint.fmpq_mat(m, n, [p[0] for r in a for p in r])) == top:
+    if full_rank_at_zero(a, m, n):
         return top  # rank M(0) ≤ rank M ≤ min(m, n); M(0) needs no other coefficient
     coeffs = ev.coefficient_mats(a, m, n)
     best = 0

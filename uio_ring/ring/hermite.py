@@ -33,6 +33,7 @@ from uio_ring.ring._kernel_basis import TOEPLITZ_MIN_ROWS, popov_left_kernel, so
 from uio_ring.ring._predicates import (
     coprime_maximal_minors,
     det_raw,
+    full_rank_at_zero,
     is_hermite_raw,
     is_unimodular_raw,
     rank_raw,
@@ -163,11 +164,23 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 rank=n,
                 pivots=tuple(range(n)),
             )
-    if m > 0:
+    if 0 < m < TOEPLITZ_MIN_ROWS:
+        # pairwise xgcd steps when U is unique (square, nonsingular: proved by M(0))
+        pairwise = m == n <= PAIRWISE_MAX_ROWS and full_rank_at_zero(M._r, m, n)
+        small = _hermite_by_small_elimination(M, xgcd_rows=m if pairwise else 2)
+        if small is not None:
+            return small
+    elif m > 0:
         fast = _hermite_by_toeplitz(M, singular=singular)
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
+
+
+#: Square matrices of at most this many rows, when M(0) is nonsingular, are eliminated
+#: with pairwise extended-gcd steps (``row_echelon(xgcd_rows=n)``; random and Smith-family
+#: 3×3 … 5×5: 0.7–0.95× the time of remainder passes; 8×8: 2–3× slower).
+PAIRWISE_MAX_ROWS = 5
 
 
 def _hermite_by_toeplitz(
@@ -199,16 +212,27 @@ def _hermite_by_toeplitz(
     r = -1 if singular or m > n else rank_raw(a, m, n)
     if r == m:
         return None
-    h = dn.copy(a)
-    small = _hermite_by_small_elimination(M, rows=h)
-    if small is not None:
-        return small
-    if m > n:
-        r = rank_raw(a, m, n)
-    if r == n and coprime_maximal_minors(a, m, n):
+    # H = [I; 0] needs rank n: a singular or rank-deficient M goes straight to the
+    # elimination with transform (below); a tall one tries it under the tight cap first
+    top_identity_possible = not singular and (r == -1 or r == n)
+    if top_identity_possible:
+        h = dn.copy(a)
+        small = _hermite_by_small_elimination(M, rows=h)
+        if small is not None:
+            return small
+        if m > n:
+            r = rank_raw(a, m, n)
+    if top_identity_possible and r == n and coprime_maximal_minors(a, m, n):
         h_top = dn.identity(n)
         pivots = list(range(n))
     else:
+        # H has pivots of positive degree: eliminating for H costs most of what the
+        # transform does, and the elimination with transform is 1.2–5× faster than
+        # that plus the Toeplitz nullspace and solve (rank-deficient 8×8 … 14×12)
+        h = dn.copy(a)
+        full = _hermite_by_small_elimination(M, rows=h, cap_bits=FULL_ELIMINATION_BITS)
+        if full is not None:
+            return full
         pivots = row_echelon(h, None, m, n)
         normalise(h, None, pivots)
         r = len(pivots)
@@ -231,13 +255,18 @@ def _hermite_by_toeplitz(
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
 #: ``ELIMINATION_BITS + 4·(bits of M)`` bits (see :func:`_hermite_by_small_elimination`).
 ELIMINATION_BITS = 64
+#: The cap of the same elimination when the Toeplitz path would need an elimination
+#: for H anyway (H ≠ [I; 0]): a guard against runaway growth only.
+FULL_ELIMINATION_BITS = 1 << 14
 #: Below this many entries of M the elimination runs without that cap: the cap only
 #: chooses between two paths to the same H and U, and on so few columns its test costs
 #: more than any swell it can stop (the 6×4 of Zheng et al.: 17 of 84 µs).
 CAP_MIN_ENTRIES = 40
 
 
-def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None) -> HermiteResult | None:
+def _hermite_by_small_elimination(
+    M: PolyMatrix, *, rows: dn.Rows | None = None, xgcd_rows: int = 2, cap_bits: int | None = None
+) -> HermiteResult | None:
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
     None as soon as a coefficient of the elimination exceeds ``ELIMINATION_BITS +
     4·max_bits(M)`` bits (no cap below ``CAP_MIN_ENTRIES`` entries).
@@ -255,7 +284,8 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     Generic tall matrices swell to thousands of bits within a few columns: the
     cap stops those early and the caller takes the Toeplitz path.  ``rows``: a copy
     of the rows of M to work in (the caller keeps it: half eliminated when the cap
-    stops the elimination).
+    stops the elimination).  ``xgcd_rows``: see :func:`row_echelon` (the rational
+    elimination only).  ``cap_bits``: instead of ``ELIMINATION_BITS``.
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"]])
@@ -264,19 +294,20 @@ def _hermite_by_small_elimination(M: PolyMatrix, *, rows: dn.Rows | None = None)
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, 1, -1]]))
     """
     m, n = M.shape
+    bits = ELIMINATION_BITS if cap_bits is None else cap_bits
     capped = m * n >= CAP_MIN_ENTRIES
     try:
-        got = _echelon_integral(M._r, m, n, ELIMINATION_BITS if capped else None, rows)
+        got = _echelon_integral(M._r, m, n, bits if capped else None, rows)
     except CoefficientGrowth:
         return None
     if got is not None:
         a, u, pivots = got
     else:
-        cap = ELIMINATION_BITS + 4 * max_bits(M._r) if capped else None
+        cap = bits + 4 * max_bits(M._r) if capped else None
         a = dn.copy(M._r) if rows is None else rows
         u = dn.identity(m)
         try:
-            pivots = row_echelon(a, u, m, n, bit_cap=cap)
+            pivots = row_echelon(a, u, m, n, bit_cap=cap, xgcd_rows=xgcd_rows)
         except CoefficientGrowth:
             return None
         normalise(a, u, pivots)
@@ -299,38 +330,30 @@ def _echelon_integral(
     a: dn.Rows, m: int, n: int, cap_bits: int | None, rows: dn.Rows | None = None
 ) -> tuple[dn.Rows, dn.Rows, list[int]] | None:
     """:func:`row_echelon` with transform and :func:`normalise` of the m×n rows ``a``
-    over Z[δ] (:mod:`uio_ring.ring._integral`: the same steps and the same exact
-    result, without rational canonicalisations): ``(H rows, U rows, pivots)``; None
-    when ``a`` has a denominator or a step leaves Z[δ] (then the caller runs the
-    rational elimination).  Raises :class:`CoefficientGrowth` when the elimination
-    stops on its cap ``cap_bits + 4·max_bits(a)`` (its own, lighter test; no cap when
-    ``cap_bits`` is None), with ``rows`` (when given) set to the
-    half-eliminated rows at that point: unimodular combinations of the rows of M, from
-    which the caller finishes H (unique) without transform."""
+    fraction free over Z[δ] (:mod:`uio_ring.ring._integral`: the same steps with each row
+    scaled by a constant, and the same exact result — up to a constant factor in the
+    rows of U beyond the rank, a basis of the left kernel): ``(H rows, U rows, pivots)``;
+    None below ``INTEGRAL_MIN_ENTRIES`` entries.  A row of ``a`` with denominators
+    is first multiplied by their least common multiple c (U then starts as diag(c)).
+    Raises :class:`CoefficientGrowth` when the elimination stops on its cap
+    ``cap_bits + 4·max_bits(a)`` (its own, lighter test; no cap when ``cap_bits`` is
+    None), with ``rows`` (when given) set to the half-eliminated rows at that point:
+    nonzero constant multiples of unimodular combinations of the rows of M, from which
+    the caller finishes H (unique) without transform."""
     if m * n < INTEGRAL_MIN_ENTRIES:
         return None
-    z = zi.to_integer_rows(a)
-    if z is None:
-        return None
-    uz = zi.identity(m)
-    cap = None if cap_bits is None else cap_bits + 4 * zi.max_bits(z)  # = max_bits(a)
+    z, scales = zi.to_integer_rows(a)
+    uz = zi.identity(m, scales)
+    cap = None if cap_bits is None else cap_bits + 4 * zi.max_bits(z)
     try:
         pivots = zi.row_echelon_int(z, uz, m, n, bit_cap=cap)
     except CoefficientGrowth:
         if rows is not None:
             rows[:] = zi.to_rational_rows(z)
         raise
-    except zi.NotIntegral:
-        return None
-    try:
-        zi.normalise_int(z, uz, pivots)
-    except zi.NotIntegral:
-        # raised before row k changed, rows k+1.. finished: the rational normalisation
-        # repeats no step on them (monic pivots, reduced entries) and goes on from row k
-        h, u = zi.to_rational_rows(z), zi.to_rational_rows(uz)
-        normalise(h, u, pivots)
-        return h, u, pivots
-    return zi.to_rational_rows(z), zi.to_rational_rows(uz), pivots
+    zi.normalise_int(z, uz, pivots)
+    divisors = zi.pivot_divisors(z, pivots)
+    return zi.to_rational_rows(z, divisors), zi.to_rational_rows(uz, divisors), pivots
 
 
 def hermite_by_elimination(M: PolyMatrix) -> HermiteResult:
