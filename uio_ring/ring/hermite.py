@@ -114,22 +114,30 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     evaluation/interpolation path of :mod:`uio_ring.ring._generic` (generic
     shape ``[[I, h], [0, det]]``, adj M interpolated, ``U = H·adj M / det``;
     O(n⁴·deg) rational operations in C).  When ``rank M < rows`` (tall or
-    rank-deficient M): ``U = [X; K]`` with K the Popov kernel basis from one
-    block-Toeplitz nullspace and X the solution of ``X·M = H_top`` reduced modulo
+    rank-deficient M) and M has at least ``TOEPLITZ_MIN_ROWS`` rows: the elimination
+    below while its coefficients stay small; else, when ``H = [I; 0]`` (two compressed
+    maximal minors coprime), ``U = [X; K]`` with K the Popov kernel basis from one
+    block-Toeplitz nullspace and X the solution of ``X·M = I`` reduced modulo
     K, from one square Toeplitz system (:mod:`uio_ring.ring._kernel_basis`;
     minimal bases as reduced Gröbner bases, Forney 1975; O(N³) word operations per
-    prime with N = rows·(max minimal index + 1)); ``H_top = I`` when two compressed
-    maximal minors are coprime, else from elimination without transform.
+    prime with N = rows·(max minimal index + 1)); when H has pivots of positive degree
+    (singular or rank-deficient M), the elimination below with only a guard against
+    runaway growth (``FULL_ELIMINATION_BITS``) — H would
+    cost an elimination anyway, and the one with transform is 1.2–5× faster than
+    the Toeplitz systems on rank-deficient 8×8 … 14×12.  Square nonsingular M of at
+    most ``PAIRWISE_MAX_ROWS`` rows whose constant term M(0) is nonsingular: pairwise
+    extended-gcd steps (as SageMath does; U is unique there).
     Otherwise (and as the fallback): Euclidean elimination column by column with
     least-degree pivots and an extended-gcd step when two rows are left
     (:func:`~uio_ring.ring._echelon.row_echelon`; python-flint's ``xgcd``, by certified
     Chinese remaindering from degree 48 on, :mod:`uio_ring.ring._xgcd`), normalisation
     of the pivots, and a Popov reduction of the kernel part of U (Mulders & Storjohann
-    2003; one-step Popov division, :mod:`uio_ring.ring._division`).  For an integer M of
-    at least ``INTEGRAL_MIN_ENTRIES`` entries whose tall elimination stays in Z[δ]
-    (columns of a unimodular integer matrix) the elimination and the normalisation
-    run over Z[δ] with the transform's rows packed (:mod:`uio_ring.ring._integral`),
-    the same steps with the same exact result.
+    2003; one-step Popov division, :mod:`uio_ring.ring._division`; with fewer than
+    ``TOEPLITZ_MIN_ROWS`` rows, of U's own kernel rows).  For M of at least
+    ``INTEGRAL_MIN_ENTRIES`` entries the elimination and the normalisation
+    run fraction free over Z[δ], each row scaled by a constant where a quotient or
+    a cofactor has a denominator, with the transform's rows packed
+    (:mod:`uio_ring.ring._integral`): the same steps with the same exact result.
 
     Examples
     --------
