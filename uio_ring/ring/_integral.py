@@ -55,7 +55,7 @@ def to_integer_rows(a: dn.Rows) -> tuple[IntRows, list[flint.fmpz] | None]:
 
     >>> z, c = to_integer_rows([[bk.from_coeffs([flint.fmpq(1, 2), 1])], [bk.ONE]])
     >>> z, c
-    ([[2*x + 1]], [2, 1])
+    ([[2*x + 1], [1]], [2, 1])
     """
     out: IntRows = []
     scales: list[flint.fmpz] = []
