@@ -275,6 +275,27 @@ def test_xgcd_benchmark_polynomials():
         assert xg.xgcd(c, d) == c.xgcd(d)
 
 
+@given(st.integers(0, 3000), st.integers(0, 3000), st.integers(1, 10**6))
+def test_xgcd_of_numerators_with_large_contents(ka, kb, seed):
+    # rational polynomials whose integer numerators carry thousands of bits of content
+    # (what elimination over Q leaves): the same triple as FLINT's, from the primitive
+    # parts — few primes, where the contents would inflate the bound to thousands
+    import random
+
+    rng = random.Random(seed)
+    x = flint.fmpq_poly([0, 1])
+    a = flint.fmpq_poly([rng.randint(-9, 9) for _ in range(50)]) + x**50
+    b = flint.fmpq_poly([rng.randint(-9, 9) for _ in range(49)]) + 3 * x**49
+    a, b = a * flint.fmpq(3**ka, 7), b * flint.fmpq(5**kb, 2**kb + 1)
+    used = []
+    real = xg._prime
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(xg, "_prime", lambda i: used.append(i) or real(i))
+        got = xg.xgcd(a, b)
+    assert got == a.xgcd(b)
+    assert len(used) < 100
+
+
 def test_xgcd_rejects_a_wrong_candidate():
     # deliberate breakage: candidates off by one are refused by the exact check (the
     # result then comes from more primes or from FLINT, and is still right)
