@@ -338,3 +338,33 @@ def test_pairwise_xgcd_elimination_gives_the_same_forms(M):
     assert PolyMatrix._new(a, n, n, M.var) == ref.H == hermite(M).H
     assert PolyMatrix._new(u, n, n, M.var) == ref.U == hermite(M).U
     assert PolyMatrix._new(u, n, n, M.var) @ M == ref.H
+
+
+@heavy()
+@given(st.data())
+def test_high_degree_small_matrices_take_the_toeplitz_path_to_the_same_forms(data):
+    """δ-degree above ELIMINATION_MAX_DEGREE (where remainder sequences over Q swell
+    within one column): tall and rank-deficient M of 2..5 rows go to the Toeplitz
+    systems, square nonsingular ones to the elimination; H and the reduced U are unique,
+    so they equal the plain elimination's."""
+    import importlib
+
+    from uio_ring.ring.hermite import ELIMINATION_MAX_DEGREE, hermite_by_elimination
+
+    m = data.draw(st.integers(2, 5))
+    n = data.draw(st.integers(1, m))
+    deg = ELIMINATION_MAX_DEGREE + 1
+    M = data.draw(st.one_of(
+        dense_matrices(rows=m, cols=n, max_degree=deg, rational=False),
+        rank_deficient_matrices(rows=m, cols=n),
+    ))
+    M = M + PolyMatrix([[f"d**{deg}" if (i, j) == (0, 0) else 0 for j in range(n)] for i in range(m)])
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    toeplitz = []
+    real = hermite_module._hermite_by_toeplitz
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hermite_module, "_hermite_by_toeplitz", lambda *a, **k: toeplitz.append(1) or real(*a, **k))
+        h = check_hermite(M)
+    assert toeplitz  # not the elimination first
+    ref = hermite_by_elimination(M)
+    assert (h.H, h.U, h.pivots) == (ref.H, ref.U, ref.pivots)

@@ -114,14 +114,16 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     evaluation/interpolation path of :mod:`uio_ring.ring._generic` (generic
     shape ``[[I, h], [0, det]]``, adj M interpolated, ``U = H·adj M / det``;
     O(n⁴·deg) rational operations in C).  When ``rank M < rows`` (tall or
-    rank-deficient M) and M has at least ``TOEPLITZ_MIN_ROWS`` rows: the elimination
-    below while its coefficients stay small; else, when ``H = [I; 0]`` (two compressed
+    rank-deficient M) and M has at least ``TOEPLITZ_MIN_ROWS`` rows or a δ-degree above
+    ``ELIMINATION_MAX_DEGREE``: the elimination below while its coefficients stay small
+    (low degree only); else, when ``H = [I; 0]`` (two compressed
     maximal minors coprime), ``U = [X; K]`` with K the Popov kernel basis from one
     block-Toeplitz nullspace and X the solution of ``X·M = I`` reduced modulo
     K, from one square Toeplitz system (:mod:`uio_ring.ring._kernel_basis`;
     minimal bases as reduced Gröbner bases, Forney 1975; O(N³) word operations per
     prime with N = rows·(max minimal index + 1)); when H has pivots of positive degree
-    (singular or rank-deficient M), the elimination below with only a guard against
+    (singular or rank-deficient M) of δ-degree ≤ ``ELIMINATION_MAX_DEGREE``, the
+    elimination below with only a guard against
     runaway growth (``FULL_ELIMINATION_BITS``) — H would
     cost an elimination anyway, and the one with transform is 1.2–5× faster than
     the Toeplitz systems on rank-deficient 8×8 … 14×12.  Square nonsingular M of at
@@ -172,14 +174,14 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 rank=n,
                 pivots=tuple(range(n)),
             )
-    if 0 < m < TOEPLITZ_MIN_ROWS:
+    if 0 < m < TOEPLITZ_MIN_ROWS and dn.mat_degree(M._r) <= ELIMINATION_MAX_DEGREE:
         # pairwise xgcd steps when U is unique (square, nonsingular: proved by M(0))
         pairwise = m == n <= PAIRWISE_MAX_ROWS and full_rank_at_zero(M._r, m, n)
         small = _hermite_by_small_elimination(M, xgcd_rows=m if pairwise else 2)
         if small is not None:
             return small
     elif m > 0:
-        fast = _hermite_by_toeplitz(M, singular=singular)
+        fast = _hermite_by_toeplitz(M, singular=singular, min_rows=0 if m < TOEPLITZ_MIN_ROWS else None)
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
@@ -223,13 +225,14 @@ def _hermite_by_toeplitz(
     # H = [I; 0] needs rank n: a singular or rank-deficient M goes straight to the
     # elimination with transform (below); a tall one tries it under the tight cap first
     top_identity_possible = not singular and (r == -1 or r == n)
-    if top_identity_possible:
+    low_degree = dn.mat_degree(a) <= ELIMINATION_MAX_DEGREE
+    if top_identity_possible and low_degree:
         h = dn.copy(a)
         small = _hermite_by_small_elimination(M, rows=h)
         if small is not None:
             return small
-        if m > n:
-            r = rank_raw(a, m, n)
+    if top_identity_possible and r == -1:
+        r = rank_raw(a, m, n)
     if top_identity_possible and r == n and coprime_maximal_minors(a, m, n):
         h_top = dn.identity(n)
         pivots = list(range(n))
@@ -238,7 +241,9 @@ def _hermite_by_toeplitz(
         # transform does, and the elimination with transform is 1.2–5× faster than
         # that plus the Toeplitz nullspace and solve (rank-deficient 8×8 … 14×12)
         h = dn.copy(a)
-        full = _hermite_by_small_elimination(M, rows=h, cap_bits=FULL_ELIMINATION_BITS)
+        full = None
+        if low_degree:
+            full = _hermite_by_small_elimination(M, rows=h, cap_bits=FULL_ELIMINATION_BITS)
         if full is not None:
             return full
         pivots = row_echelon(h, None, m, n)
@@ -263,6 +268,11 @@ def _hermite_by_toeplitz(
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
 #: ``ELIMINATION_BITS + 4·(bits of M)`` bits (see :func:`_hermite_by_small_elimination`).
 ELIMINATION_BITS = 64
+#: Elimination with transform (first, or for H ≠ [I; 0]) only up to this δ-degree of M:
+#: remainder sequences of higher degree swell over Q within one column, before any cap
+#: is tested (a 5×4 of degree 32 in a W-step of ``uio-ring check``: 28 s, against 2.5 s
+#: for the Toeplitz systems).
+ELIMINATION_MAX_DEGREE = 8
 #: The cap of the same elimination when the Toeplitz path would need an elimination
 #: for H anyway (H ≠ [I; 0]): a guard against runaway growth only.
 FULL_ELIMINATION_BITS = 1 << 14
