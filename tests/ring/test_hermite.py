@@ -342,29 +342,36 @@ def test_pairwise_xgcd_elimination_gives_the_same_forms(M):
 
 @heavy()
 @given(st.data())
-def test_high_degree_small_matrices_take_the_toeplitz_path_to_the_same_forms(data):
-    """δ-degree above ELIMINATION_MAX_DEGREE (where remainder sequences over Q swell
-    within one column): tall and rank-deficient M of 2..5 rows go to the Toeplitz
-    systems, square nonsingular ones to the elimination; H and the reduced U are unique,
-    so they equal the plain elimination's."""
-    import importlib
-
-    from uio_ring.ring.hermite import ELIMINATION_MAX_DEGREE, hermite_by_elimination
+def test_high_degree_small_matrices_give_the_same_forms_on_every_path(data):
+    """δ-degree ≥ CAP_MIN_DEGREE with fewer than 6 rows: the elimination is capped (its
+    remainders can swell within one column) and the Toeplitz systems take over when it
+    stops; H and the reduced U are unique, so every path gives the plain elimination's."""
+    from uio_ring.ring.hermite import CAP_MIN_DEGREE, hermite_by_elimination
 
     m = data.draw(st.integers(2, 5))
     n = data.draw(st.integers(1, m))
-    deg = ELIMINATION_MAX_DEGREE + 1
+    deg = CAP_MIN_DEGREE
     M = data.draw(st.one_of(
         dense_matrices(rows=m, cols=n, max_degree=deg, rational=False),
         rank_deficient_matrices(rows=m, cols=n),
     ))
     M = M + PolyMatrix([[f"d**{deg}" if (i, j) == (0, 0) else 0 for j in range(n)] for i in range(m)])
-    hermite_module = importlib.import_module("uio_ring.ring.hermite")
-    toeplitz = []
-    real = hermite_module._hermite_by_toeplitz
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(hermite_module, "_hermite_by_toeplitz", lambda *a, **k: toeplitz.append(1) or real(*a, **k))
-        h = check_hermite(M)
-    assert toeplitz  # not the elimination first
+    h = check_hermite(M)
     ref = hermite_by_elimination(M)
     assert (h.H, h.U, h.pivots) == (ref.H, ref.U, ref.pivots)
+
+
+def test_swelling_high_degree_elimination_stops_on_its_cap():
+    """A seeded 5×4 of degree 16 with coefficients in [−9, 9]: the capped elimination stops
+    (its first column's remainders pass the cap), hermite takes the Toeplitz systems, and
+    the forms are the plain elimination's."""
+    import random
+
+    from uio_ring.ring.hermite import _hermite_by_small_elimination, hermite_by_elimination
+
+    rng = random.Random(516)
+    M = PolyMatrix.from_coefficients([[[rng.randint(-9, 9) for _ in range(4)] for _ in range(5)] for _ in range(17)])
+    assert _hermite_by_small_elimination(M) is None
+    h = check_hermite(M)
+    ref = hermite_by_elimination(M)
+    assert (h.H, h.U) == (ref.H, ref.U)

@@ -58,8 +58,9 @@ def row_echelon(
     With ``bit_cap``: after each column, raise :class:`CoefficientGrowth` (``a``
     and ``u`` half transformed) when a coefficient of the new pivot row of ``a`` or
     ``u``, or of the next column below it, has more bits (:func:`max_bits`; these
-    carry the swell of elimination over Q, at O(m + n) per column) — for callers
-    that have a better method then.
+    carry the swell of elimination over Q, at O(m + n) per column), and likewise
+    after each pass of remainders on the column's entries — for callers that have
+    a better method then.
 
     Algorithm: column by column.  While several candidate rows are nonzero in
     the column, the row with the least-degree entry (ties: least row degree) is
@@ -121,6 +122,10 @@ def row_echelon(
                 dn.row_axpy(a, i, q, p, j + 1)
                 if u is not None:
                     dn.row_axpy(u, i, q, p)
+            # the remainders carry the swell of a column of high degree (a 5×4 of degree
+            # 32: thousands of bits within the first column, long before its end)
+            if bit_cap is not None and max(bk.bits(x) for i in nz if (x := a[i][j])) > bit_cap:
+                raise CoefficientGrowth(f"elimination coefficients exceed {bit_cap} bits in column {j}")
         if not nz:
             continue
         p = nz[0]

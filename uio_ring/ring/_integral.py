@@ -312,6 +312,8 @@ def row_echelon_int(a: IntRows, u: Packed | None, m: int, n: int, bit_cap: int |
                     continue
                 q, D, a[i][j] = _quotient(a[i][j], pj)  # the entry: D·a_ij − q·a_pj
                 _scaled_axpy(a, u, i, D, q, p, j)
+            if bit_cap is not None and max(a[i][j].height_bits() for i in nz) >= bit_cap:
+                raise CoefficientGrowth(f"elimination coefficients exceed {bit_cap} bits in column {j}")
         if not nz:
             continue
         p = nz[0]

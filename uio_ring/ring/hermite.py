@@ -174,14 +174,17 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 rank=n,
                 pivots=tuple(range(n)),
             )
-    if 0 < m < TOEPLITZ_MIN_ROWS and dn.mat_degree(M._r) <= ELIMINATION_MAX_DEGREE:
-        # pairwise xgcd steps when U is unique (square, nonsingular: proved by M(0))
+    few_rows = 0 < m < TOEPLITZ_MIN_ROWS
+    if few_rows:
+        # pairwise xgcd steps when U is unique (square, nonsingular: proved by M(0)), and
+        # no cap then (there is no other path); else the cap of high degrees
         pairwise = m == n <= PAIRWISE_MAX_ROWS and full_rank_at_zero(M._r, m, n)
-        small = _hermite_by_small_elimination(M, xgcd_rows=m if pairwise else 2)
+        small = _hermite_by_small_elimination(M, xgcd_rows=m if pairwise else 2, capped=False if pairwise else None)
         if small is not None:
             return small
-    elif m > 0:
-        fast = _hermite_by_toeplitz(M, singular=singular, min_rows=0 if m < TOEPLITZ_MIN_ROWS else None)
+    if m > 0:
+        fast = _hermite_by_toeplitz(M, singular=singular, min_rows=0 if few_rows else None,
+                                    eliminate_first=not few_rows)
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
@@ -194,7 +197,7 @@ PAIRWISE_MAX_ROWS = 5
 
 
 def _hermite_by_toeplitz(
-    M: PolyMatrix, *, min_rows: int | None = None, singular: bool = False
+    M: PolyMatrix, *, min_rows: int | None = None, singular: bool = False, eliminate_first: bool = True
 ) -> HermiteResult | None:
     """Hermite form with U for ``rank M < rows``, without a transform from elimination.
 
@@ -212,7 +215,8 @@ def _hermite_by_toeplitz(
     < columns, and H comes from elimination).  When the elimination with transform
     stops on coefficient growth, H is computed by continuing that elimination,
     without transform, from where it stopped (the rows are unimodular combinations
-    of those of M, and H is unique).
+    of those of M, and H is unique).  ``eliminate_first=False``: the caller has seen
+    that elimination stop already.
     """
     m, n = M.shape
     a = M._r
@@ -226,7 +230,7 @@ def _hermite_by_toeplitz(
     # elimination with transform (below); a tall one tries it under the tight cap first
     top_identity_possible = not singular and (r == -1 or r == n)
     low_degree = dn.mat_degree(a) <= ELIMINATION_MAX_DEGREE
-    if top_identity_possible and low_degree:
+    if top_identity_possible and eliminate_first:
         h = dn.copy(a)
         small = _hermite_by_small_elimination(M, rows=h)
         if small is not None:
@@ -268,11 +272,14 @@ def _hermite_by_toeplitz(
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
 #: ``ELIMINATION_BITS + 4·(bits of M)`` bits (see :func:`_hermite_by_small_elimination`).
 ELIMINATION_BITS = 64
-#: Elimination with transform (first, or for H ≠ [I; 0]) only up to this δ-degree of M:
-#: remainder sequences of higher degree swell over Q within one column, before any cap
-#: is tested (a 5×4 of degree 32 in a W-step of ``uio-ring check``: 28 s, against 2.5 s
-#: for the Toeplitz systems).
+#: The uncapped elimination with transform for H ≠ [I; 0] only up to this δ-degree of M
+#: (remainder sequences of higher degree can swell over Q: a 5×4 of degree 32 in a
+#: W-step of ``uio-ring check``, 28 s against 1.9 s for the Toeplitz systems).
 ELIMINATION_MAX_DEGREE = 8
+#: From this δ-degree of M on the cap applies whatever the number of entries (the same
+#: 5×4 stops in its first column; a 3×2 of degree 127 of the observability algorithm
+#: stays small and finishes in 1 ms, where the Toeplitz systems take seconds).
+CAP_MIN_DEGREE = 8
 #: The cap of the same elimination when the Toeplitz path would need an elimination
 #: for H anyway (H ≠ [I; 0]): a guard against runaway growth only.
 FULL_ELIMINATION_BITS = 1 << 14
@@ -283,11 +290,12 @@ CAP_MIN_ENTRIES = 40
 
 
 def _hermite_by_small_elimination(
-    M: PolyMatrix, *, rows: dn.Rows | None = None, xgcd_rows: int = 2, cap_bits: int | None = None
+    M: PolyMatrix, *, rows: dn.Rows | None = None, xgcd_rows: int = 2, cap_bits: int | None = None,
+    capped: bool | None = None,
 ) -> HermiteResult | None:
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
     None as soon as a coefficient of the elimination exceeds ``ELIMINATION_BITS +
-    4·max_bits(M)`` bits (no cap below ``CAP_MIN_ENTRIES`` entries).
+    4·max_bits(M)`` bits (no cap below ``CAP_MIN_ENTRIES`` entries and ``CAP_MIN_DEGREE``).
 
     When the Euclidean elimination keeps its coefficients small (a tall M made of
     columns of a unimodular matrix: 22×20 of degree 2 ends with 22-bit
@@ -303,7 +311,9 @@ def _hermite_by_small_elimination(
     cap stops those early and the caller takes the Toeplitz path.  ``rows``: a copy
     of the rows of M to work in (the caller keeps it: half eliminated when the cap
     stops the elimination).  ``xgcd_rows``: see :func:`row_echelon` (the rational
-    elimination only).  ``cap_bits``: instead of ``ELIMINATION_BITS``.
+    elimination only).  ``cap_bits``: instead of ``ELIMINATION_BITS``.  ``capped``:
+    whether the cap applies (default: from ``CAP_MIN_ENTRIES`` entries or
+    ``CAP_MIN_DEGREE`` on).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"]])
@@ -313,7 +323,8 @@ def _hermite_by_small_elimination(
     """
     m, n = M.shape
     bits = ELIMINATION_BITS if cap_bits is None else cap_bits
-    capped = m * n >= CAP_MIN_ENTRIES
+    if capped is None:
+        capped = m * n >= CAP_MIN_ENTRIES or dn.mat_degree(M._r) >= CAP_MIN_DEGREE
     try:
         got = _echelon_integral(M._r, m, n, bits if capped else None, rows)
     except CoefficientGrowth:
