@@ -23,8 +23,10 @@ from uio_ring import (
 from .strategies import (
     assert_popov,
     dense_matrices,
+    heavy,
     matrices,
     paper_001_M,
+    rank_deficient_matrices,
     reference_rank,
 )
 
@@ -107,3 +109,22 @@ def test_paper_001_kernel():
     """M = [[CB, D], [D, 0]] has rank 3, so its left kernel has 6 − 3 = 3 rows."""
     K = check_left_kernel(paper_001_M())
     assert K.shape == (3, 6)
+
+
+@heavy()
+@given(st.data())
+def test_left_kernel_of_few_rows_of_high_degree_equals_the_elimination(data):
+    """Below 6 rows and from δ-degree CAP_MIN_DEGREE on, left_kernel takes hermite's
+    kernel rows (capped elimination, then the Toeplitz systems): the same unique Popov
+    basis as the plain elimination."""
+    from uio_ring.ring.hermite import CAP_MIN_DEGREE
+    from uio_ring.ring.kernel import left_kernel_by_elimination
+
+    m = data.draw(st.integers(2, 5))
+    n = data.draw(st.integers(1, m))
+    M = data.draw(rank_deficient_matrices(rows=m, cols=n))
+    M = M + PolyMatrix([[f"d**{CAP_MIN_DEGREE}" if (i, j) == (m - 1, 0) else 0 for j in range(n)]
+                        for i in range(m)])
+    K = left_kernel(M)
+    assert K == left_kernel_by_elimination(M)
+    assert (K @ M).is_zero()
