@@ -64,6 +64,7 @@ from uio_ring.ring._kernel_lead import (
 )
 from uio_ring.ring._kronecker import scaled_numerator
 from uio_ring.ring._predicates import rank_raw
+from uio_ring.ring._reduced_crt import solve_reduced_crt
 
 __all__ = ["popov_left_kernel", "solve_reduced", "ToeplitzCoefficients", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
 
@@ -257,7 +258,7 @@ def popov_left_kernel(
 
 def solve_reduced(
     a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows, *, tries: int | None = None,
-    coeffs: ToeplitzCoefficients | None = None,
+    coeffs: ToeplitzCoefficients | None = None, multimodular: bool = True,
 ) -> dn.Rows | None:
     """The X with ``X·M = rhs`` reduced modulo the Popov kernel basis ``kernel`` (entries
     in a pivot column of lower degree than that pivot), from one square block-Toeplitz
@@ -277,6 +278,12 @@ def solve_reduced(
     when given: for a system that may have no solution).  Precondition: ``kernel`` is the
     Popov basis of the left kernel of the m×n rows ``a``; rhs rows have n entries;
     ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)`` (not checked).
+
+    For M of full column rank the square system is first solved by block elimination
+    modulo word primes (:func:`~uio_ring.ring._reduced_crt.solve_reduced_crt`: a
+    Σ d_i-unknown Schur complement instead of the whole system, Chinese remaindering with
+    early termination, the result checked exactly); ``multimodular=False`` skips that
+    (for testing the two against each other: the solution is unique).
     """
     if not rhs:
         return []
@@ -287,7 +294,7 @@ def solve_reduced(
     D = max([hdeg - dm, *lead.values(), 0])
     d_cap = MAX_UNKNOWNS // m - 1
     while D <= d_cap:
-        got = _solve_reduced_at(coeffs, m, n, D, lead, rhs)
+        got = _solve_reduced_at(coeffs, m, n, D, lead, rhs, multimodular)
         if got is not None:
             return got
         if tries is not None:
@@ -335,17 +342,14 @@ def _consistent_mod_p(
 
 
 def _solve_reduced_at(
-    coeffs: ToeplitzCoefficients, m: int, n: int, D: int, lead: dict[int, int], rhs: dn.Rows
+    coeffs: ToeplitzCoefficients, m: int, n: int, D: int, lead: dict[int, int], rhs: dn.Rows,
+    multimodular: bool = True,
 ) -> dn.Rows | None:
     """:func:`solve_reduced` at the degree bound D; None when the check fails."""
     mi, scale, dm = coeffs.mi, coeffs.scale, coeffs.dm
     rows = n * (D + dm + 1)
     if dn.mat_degree(rhs) > D + dm:
         return None
-    unknowns = [e * m + j for e in range(D + 1) for j in range(m) if not (j in lead and e >= lead[j])]
-    u = len(unknowns)
-    exact = _toeplitz_columns(mi, m, n, dm, D, unknowns)
-    residues = _toeplitz_columns(coeffs.residues, m, n, dm, D, unknowns)
     # right-hand sides: coefficient t of rhs[l]·c_l at row (t, l), over one denominator
     k = len(rhs)
     scaled = [[(rhs[v][col] * scale[col]).coeffs() for col in range(n)] for v in range(k)]
@@ -354,6 +358,17 @@ def _solve_reduced_at(
         for t in range(D + dm + 1) for col in range(n) for v in range(k)
     ])
     bnum, bden = b.numer_denom()
+    crt = solve_reduced_crt(mi, dm, m, n, D, lead, bnum.tolist(), k) if multimodular else None
+    if isinstance(crt, str):
+        return None  # no solution of degree ≤ D (proved modulo a prime: see _reduced_crt)
+    if crt is not None:  # checked exactly inside: X·M = rhs
+        rows_, delta = crt
+        qden = flint.fmpq(bden * delta)
+        return [[flint.fmpq_poly(cs) / qden if any(cs) else bk.ZERO for cs in row] for row in rows_]
+    unknowns = [e * m + j for e in range(D + 1) for j in range(m) if not (j in lead and e >= lead[j])]
+    u = len(unknowns)
+    exact = _toeplitz_columns(mi, m, n, dm, D, unknowns)
+    residues = _toeplitz_columns(coeffs.residues, m, n, dm, D, unknowns)
     # independent rows of T restricted to the unknowns, modulo p
     chosen = pivot_columns_mod_p([x for col in residues for x in col], u, rows, reduced=True)
     if len(chosen) < u:
