@@ -83,8 +83,8 @@ Cases (seeded, identical for every library)
     highdeg    2×2 [[(1+δ)^k, δ^(k−1)+1], [δ^k − 1, (δ−1)^k]] (k = 16 … 256; the "n" column is k)
     paper001   M = [[C B, D], [D, 0]] of Zheng et al. §5 (6×4)
 
-After the table: the fitted growth exponent of left_kernel on tall4 (least squares
-of log time against log n), for every library.
+After the table: the fitted growth exponents of left_kernel, left_inverse, hermite and
+solve_left on tall4 (least squares of log time against log n), for every library.
 
 Usage::
 
@@ -899,7 +899,9 @@ def main(argv: list[str] | None = None) -> int:
     print("# " + ", ".join(versions))
 
     cases = build_cases(sizes, args.seed, quick=args.quick, max_n=args.max_n, families=families)
-    kernel_times: dict[str, list[tuple[int, float]]] = {lib: [] for lib in libs}
+    growth_ops = ["left_kernel", "left_inverse", "hermite", "solve_left"]
+    growth_times: dict[tuple[str, str], list[tuple[int, float]]] = {
+        (op, lib): [] for op in growth_ops for lib in libs}
     timed_out: set[tuple[str, str, str]] = set()  # (lib, family, op)
     header = ["family", "n", "shape", "operation", "ours [s]"]
     if "sympy" in libs:
@@ -947,10 +949,11 @@ def main(argv: list[str] | None = None) -> int:
                     what = {"hermite": "H", "smith": "S", "left_kernel": "kernel row degrees"}.get(op, "value")
                     mismatches.append(f"{case['family']} n={case['n']} {op}: {what} differs, ours vs {lib}")
         if case["family"] == "tall4":
-            for lib in libs:
-                v = _time(res[lib].get("left_kernel"))
-                if isinstance(v, float):
-                    kernel_times[lib].append((case["n"], v))
+            for op in growth_ops:
+                for lib in libs:
+                    v = _time(res[lib].get(op))
+                    if isinstance(v, float):
+                        growth_times[op, lib].append((case["n"], v))
         for op in case["ops"]:
             ours = res["ours"].get(op)
             line = [case["family"], str(case["n"]), f"{case['shape'][0]}x{case['shape'][1]}",
@@ -975,11 +978,12 @@ def main(argv: list[str] | None = None) -> int:
               "invariant factors, H, S, det, rank and kernel row degrees agree between the libraries "
               "on every case where both finished")
 
-    for lib in libs:
-        pts = kernel_times[lib]
-        if len(pts) >= 2:
-            print(f"# left_kernel on tall4: fitted growth exponent ({lib}) "
-                  f"{_growth_exponent(pts):.2f} over n = {', '.join(str(n) for n, _ in pts)}")
+    for op in growth_ops:
+        for lib in libs:
+            pts = growth_times[op, lib]
+            if len(pts) >= 2:
+                print(f"# {op} on tall4: fitted growth exponent ({lib}) "
+                      f"{_growth_exponent(pts):.2f} over n = {', '.join(str(n) for n, _ in pts)}")
 
     print()
     k = 1 if args.quick else 3
