@@ -25,13 +25,14 @@ from uio_ring.ring._kernel_basis import (
 )
 from uio_ring.ring._kernel_lead import (
     PRIME,
+    generators_by_crt,
     generators_by_lead_solve,
     pivot_columns_mod_p,
     solve_square,
 )
 from uio_ring.ring.kernel import left_kernel_by_elimination
 
-from .strategies import matrices
+from .strategies import dense_matrices, matrices
 
 
 def _both(M: PolyMatrix, D: int, p: int | None = None):
@@ -206,3 +207,51 @@ def test_solve_square_both_solvers():
         b = flint.fmpz_mat(n, k, [rng.randint(-99, 99) for _ in range(n * k)])
         x = solve_square(a, b)
         assert flint.fmpq_mat(a) * x == flint.fmpq_mat(b)
+
+
+# ----------------------------------------------------------------------------
+# the generators of a rank-n matrix by the Schur complement modulo primes
+# ----------------------------------------------------------------------------
+def _crt_and_exact(M: PolyMatrix, D: int, pivots: list[int] | None = None):
+    m, n = M.shape
+    dm = max(dn.mat_degree(M._r), 0)
+    mi = _integer_coefficients(M._r, m, n)
+    if pivots is None:
+        pivots = pivot_columns_mod_p(_toeplitz_entries(mi, m, n, dm, D, None), n * (D + dm + 1), m * (D + 1))
+    return generators_by_crt(mi, dm, m, n, D, pivots), _exact_generators(mi, m, n, dm, D)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 4), st.integers(1, 4), st.integers(0, 4), st.data())
+def test_crt_generators_equal_exact_nullspace(n, extra, D, data):
+    M = data.draw(dense_matrices(rows=n + extra, cols=n, max_degree=2))
+    fast, exact = _crt_and_exact(M, D)
+    assert fast is None or fast == exact
+    if M.rank() == n and len(exact) == extra and dn.mat_degree(M._r) > 0:
+        # every generator found at D; the solver applies unless A_0 is singular
+        rest = [j for j in range(n + extra) if j not in {i % (n + extra) for i, _ in exact}]
+        a0 = PolyMatrix([[str(M._r[j][c][0]) for c in range(n)] for j in rest])
+        if a0.det() != 0 and any(i >= n + extra for i, _ in exact):
+            assert fast == exact
+
+
+def test_crt_generators_of_a_tall_generic_matrix():
+    M = PolyMatrix("[[1, d**2 - 1], [d, 2], [3, d + 1], [d**2, -1], [2*d - 1, d], [1, 1], [d, 0]]")
+    m, n = M.shape
+    D, pivots = _generator_degree_mod_p(ToeplitzCoefficients.of(M._r, m, n).residues, m, n, 2, 5, m - n)
+    fast, exact = _crt_and_exact(M, D, pivots)
+    assert fast is not None and fast == exact and len(fast) == m - n
+    # a pivot column (not a leading monomial over Q) passed off as a generator: no kernel
+    # vector has it as its greatest monomial, so the certificate refuses
+    gen = max(i for i, _ in fast)
+    fake = max(c for c in pivots if c % m != gen % m and c // m == gen // m)
+    wrong = sorted([*[c for c in pivots if c != fake], gen])
+    assert _crt_and_exact(M, D, wrong)[0] is None
+
+
+def test_kernel_falls_back_when_the_crt_generators_give_up(monkeypatch):
+    M = PolyMatrix("[[1, d**2 - 1], [d, 2], [3, d + 1], [d**2, -1], [2*d - 1, d], [1, 1], [d, 0]]")
+    want = left_kernel_by_elimination(M)._r
+    assert popov_left_kernel(M._r, *M.shape) == want
+    monkeypatch.setattr(_kernel_basis, "generators_by_crt", lambda *a, **k: None)
+    assert popov_left_kernel(M._r, *M.shape) == want

@@ -37,9 +37,13 @@ failed solve or check, never as a wrong answer.
 
 from __future__ import annotations
 
+from typing import Any
+
 import flint
 
-__all__ = ["generators_by_lead_solve", "pivot_columns_mod_p", "solve_square"]
+from uio_ring.ring._reduced_crt import solve_reduced_crt
+
+__all__ = ["generators_by_crt", "generators_by_lead_solve", "pivot_columns_mod_p", "solve_square"]
 
 #: The word prime of the rank profiles (2⁶¹ − 1).
 PRIME = (1 << 61) - 1
@@ -88,7 +92,17 @@ def pivot_columns_mod_p(
     >>> pivot_columns_mod_p([1, 2, 3, 2, 4, 7], 2, 3)
     [0, 2]
     """
-    red, rank = flint.nmod_mat(rows, cols, entries if reduced else [x % p for x in entries], p).rref()
+    return column_profile(flint.nmod_mat(rows, cols, entries if reduced else [x % p for x in entries], p))
+
+
+def column_profile(mat: flint.nmod_mat) -> list[int]:
+    """The pivot columns (column rank profile, left to right) of ``mat`` over its prime field.
+
+    >>> column_profile(flint.nmod_mat(2, 3, [1, 2, 3, 2, 4, 7], 5))
+    [0, 2]
+    """
+    red, rank = mat.rref()
+    cols = mat.ncols()
     pivots = []
     r = 0
     for c in range(cols):
@@ -144,6 +158,65 @@ def generators_by_lead_solve(
                 if pc > c:
                     return None  # the greatest monomial would not be the generator
                 vec[pc] = -flint.fmpq(x) / qden
+        vec[c] = flint.fmpq(1)
+        out.append((c, vec))
+    return out
+
+
+def generators_by_crt(
+    mi: list[list[list[Any]]], dm: int, m: int, n: int, D: int, pivots: list[int]
+) -> list[tuple[int, list[flint.fmpq]]] | None:
+    """:func:`generators_by_lead_solve` for M of rank n (``m − n`` generators), the solve by
+    :func:`~uio_ring.ring._reduced_crt.solve_reduced_crt` (a Schur complement modulo word
+    primes, certified exactly) instead of one square system over Z; None when the profile
+    does not have m − n generators or that solver does not apply.
+
+    The reduced echelon vector led by δ^(d_i)·e_(π_i) is ``δ^(d_i)·e_(π_i) + y_i`` with
+    ``y_i·M = −δ^(d_i)·M[π_i]`` and y_i supported on the pivot columns, that is, reduced
+    modulo the leading monomials: y_i is the reduced solution of that system, unique.
+    The certificate of the module text is unchanged: ``y_i·M = −δ^(d_i)·M[π_i]`` is
+    checked exactly by the solver, and every monomial of y_i is checked to lie below the
+    generator.  Precondition: ``mi`` are the integer coefficients of M (degree dm, rank n,
+    not checked); ``pivots`` as for :func:`generators_by_lead_solve`.
+
+    >>> from uio_ring.ring._kernel_basis import _integer_coefficients, _toeplitz_entries
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix("[[1], [d], [d**2 + 1]]")
+    >>> mi = _integer_coefficients(M._r, 3, 1)
+    >>> piv = pivot_columns_mod_p(_toeplitz_entries(mi, 3, 1, 2, 1, None), 4, 6)
+    >>> [(idx, [str(c) for c in g]) for idx, g in generators_by_crt(mi, 2, 3, 1, 1, piv)]
+    [(3, ['0', '-1', '0', '1', '0', '0']), (4, ['1', '0', '-1', '0', '1', '0'])]
+    """
+    cols = m * (D + 1)
+    is_pivot = [False] * cols
+    for c in pivots:
+        is_pivot[c] = True
+    gens = [c for c in range(cols) if not is_pivot[c] and (c < m or is_pivot[c - m])]
+    if len(gens) != m - n:
+        return None
+    lead = {c % m: c // m for c in gens}
+    nt = D + dm + 1
+    b: list[list[Any]] = [[0] * len(gens) for _ in range(nt * n)]
+    for i, c in enumerate(gens):
+        d, j = divmod(c, m)
+        for col, cs in enumerate(mi[j]):
+            for s, x in enumerate(cs):
+                if x:
+                    b[(d + s) * n + col][i] = -x
+    got = solve_reduced_crt(mi, dm, m, n, D, lead, b, len(gens))
+    if not isinstance(got, tuple):
+        return None
+    rows, delta = got
+    qden = flint.fmpq(delta)
+    out = []
+    for c, row in zip(gens, rows, strict=True):
+        vec = [flint.fmpq(0)] * cols
+        for j, cs in enumerate(row):
+            for e, x in enumerate(cs):
+                if x != 0:
+                    if e * m + j > c:
+                        return None  # the greatest monomial would not be the generator
+                    vec[e * m + j] = flint.fmpq(x) / qden
         vec[c] = flint.fmpq(1)
         out.append((c, vec))
     return out
