@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from uio_ring.ring import PolyMatrix
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
-from uio_ring.ring._reduced_crt import NO_SOLUTION, _finish, solve_reduced_crt, word_primes
+from uio_ring.ring._reduced_crt import NO_SOLUTION, _Blocks, _finish, solve_reduced_crt, word_primes
 
 
 def _tall(rng: random.Random, n: int, extra: int, deg: int, rational: bool) -> PolyMatrix:
@@ -93,28 +93,23 @@ def test_a_wrong_candidate_fails_the_exact_check():
     got = solve_reduced_crt(coeffs.mi, coeffs.dm, 8, 5, D, lead, b, 5)
     assert isinstance(got, tuple)
     rows, delta = got
-    piv = sorted(lead)
-    pu = [(j, e) for j in piv for e in range(lead[j])]
-    y_p = flint.fmpz_mat(5, len(pu), [rows[v][j][e] for v in range(5) for j, e in pu])
-    rest = [j for j in range(8) if j not in lead]
-    nt = D + coeffs.dm + 1
-
-    def blk(t: int, pairs: list[tuple[int, int]], vals) -> flint.fmpz_mat:
-        return flint.fmpz_mat(len(pairs), 5, [vals(j, col, t - e) for j, e in pairs for col in range(5)])
-
-    def coef(j: int, col: int, s: int):
-        cs = coeffs.mi[j][col]
-        return cs[s] if 0 <= s < len(cs) else 0
-
-    a_int = [flint.fmpz_mat(5, 5, [coef(j, col, s) for j in rest for col in range(5)])
-             for s in range(coeffs.dm + 1)]
-    h_int = [blk(t, pu, coef) for t in range(nt)]
-    b_int = [flint.fmpz_mat(5, 5, [b[t * 5 + col][v] for v in range(5) for col in range(5)]) for t in range(nt)]
-    assert _finish(delta, y_p, a_int, h_int, b_int, D, coeffs.dm, 5) is not None
+    blocks = _Blocks.of(coeffs.mi, coeffs.dm, 5, D, sorted(lead), lead, b, 5)
+    y_p = flint.fmpz_mat(5, blocks.up, [rows[v][j][e] for v in range(5) for j, e in blocks.pu])
+    assert _finish(delta, y_p, blocks) is not None
     wrong = flint.fmpz_mat(y_p.tolist())
     wrong[0, 0] += word_primes(1)[0]  # invisible modulo the first prime
-    assert _finish(delta, wrong, a_int, h_int, b_int, D, coeffs.dm, 5) is None
-    assert _finish(delta + 1, y_p, a_int, h_int, b_int, D, coeffs.dm, 5) is None
+    assert _finish(delta, wrong, blocks) is None
+    assert _finish(delta + 1, y_p, blocks) is None
+    # scaled by c = d^(D+1) (d: the denominator of A_0⁻¹) every division of the recurrence
+    # is exact: the right candidate still passes, a wrong one fails at the coefficients > D
+    c = den_a0(blocks) ** (D + 1)
+    assert _finish(delta * c, y_p * c, blocks) is not None
+    assert _finish(delta * c, wrong * c, blocks) is None
+
+
+def den_a0(blocks: _Blocks) -> flint.fmpz:
+    """The denominator of A_0⁻¹."""
+    return flint.fmpq_mat(blocks.a[0]).inv().numer_denom()[1]
 
 
 def test_an_inconsistent_right_hand_side_is_refused_modulo_a_prime():
@@ -161,3 +156,48 @@ def test_what_it_does_not_handle_is_handed_back():
     assert solve_reduced_crt(c2.mi, c2.dm, 6, 2, D2, lead2, _integer_rhs(c2, W2, 2, D2), 2) is None
     X2 = solve_reduced(M2._r, 6, 2, K2, W2._r)
     assert X2 is not None and PolyMatrix._new(X2, 2, 6, "d") @ M2 == W2
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 5), st.integers(1, 4), st.integers(1, 3), st.integers(0, 10**6))
+def test_it_applies_whenever_its_conditions_hold(n, extra, deg, seed):
+    """Rank n, A_0 = M_R(0) nonsingular and a nonconstant M with a kernel of positive
+    degrees: the method answers (a solution or a proof that none exists), it does not
+    hand back (it would fall back silently to the square system: same result, slower)."""
+    rng = random.Random(seed)
+    M = _tall(rng, n, extra, deg, False)
+    m = n + extra
+    K = popov_left_kernel(M._r, m, n, min_rows=0)
+    assert K is not None
+    c = ToeplitzCoefficients.of(M._r, m, n)
+    lead = _lead(K)
+    rest = [j for j in range(m) if j not in lead]
+    X0 = PolyMatrix([[f"{rng.randint(-2, 2)} + {rng.randint(-2, 2)}*d" for _ in range(m)]])
+    W = X0 @ M
+    D = max([*lead.values(), dn.mat_degree(W._r) - c.dm, 0])
+    got = solve_reduced_crt(c.mi, c.dm, m, n, D, lead, _integer_rhs(c, W, n, D), 1) if c.dm > 0 else None
+    applies = (len(rest) == n and c.dm > 0 and any(lead.values())
+               and PolyMatrix([[str(M._r[j][col][0]) for col in range(n)] for j in rest]).det() != 0)
+    assert (got is not None) == applies
+    if isinstance(got, tuple):
+        rows, delta = got
+        X = PolyMatrix._new([[flint.fmpq_poly(cs) / delta for cs in row] for row in rows], 1, m, "d")
+        assert X @ M == W
+        assert X._r == solve_reduced(M._r, m, n, K, W._r, multimodular=False)
+
+
+def test_a_degree_bound_below_the_degree_of_m():
+    # D = 1 < dm = 3: the tail sums start at coefficient 0, not at D + i − dm < 0
+    M = PolyMatrix("[[0], [27], [24 - 12*d - 4*d**2], [36 - 24*d], [0], [12 - 12*d - 18*d**2],"
+                   " [-12 - 24*d + 8*d**2 + 12*d**3]]")
+    K = popov_left_kernel(M._r, 7, 1, min_rows=0)
+    assert K is not None
+    lead = _lead(K)
+    assert max(lead.values()) == 1
+    W = PolyMatrix("[[258 - 297*d - 100*d**2 + 66*d**3]]")
+    c = ToeplitzCoefficients.of(M._r, 7, 1)
+    got = solve_reduced_crt(c.mi, c.dm, 7, 1, 1, lead, _integer_rhs(c, W, 1, 1), 1)
+    assert isinstance(got, tuple)
+    rows, delta = got
+    X = PolyMatrix._new([[flint.fmpq_poly(cs) / delta for cs in row] for row in rows], 1, 7, "d")
+    assert X @ M == W and X._r == solve_reduced(M._r, 7, 1, K, W._r, multimodular=False)

@@ -29,7 +29,8 @@ with the current remainders (the usual early termination of multimodular algorit
 ``Y_R`` follows exactly from the recurrence over Z (exact divisions by the denominator
 of ``A_0⁻¹``) and the whole system ``Y·T = Δ·b`` is checked exactly: only a checked
 candidate is returned, so the stopping rule costs time when it is wrong, never
-correctness.  With |Δ|, |Y| ≤ 2^H (H: Hadamard's bound of T' with b,
+correctness.  (When the residues modulo the first prime are all small, X is first tried
+as an integral solution, Δ = 1: the same exact check.)  With |Δ|, |Y| ≤ 2^H (H: Hadamard's bound of T' with b,
 :func:`_hadamard_bits`), the remainders are exact once the product of the primes
 exceeds 2^(H+1), so the loop ends there at the latest.  Since T' is nonsingular modulo
 each prime used, a solution over Q reduces modulo p to the unique one modulo p, and an
@@ -50,6 +51,7 @@ primes of 61 bits, about 2 ms each.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import flint
@@ -61,6 +63,9 @@ __all__ = ["solve_reduced_crt", "NO_SOLUTION", "word_primes"]
 
 #: Returned when a prime proves that ``X·M = B`` has no solution of degree ≤ D.
 NO_SOLUTION = "no solution"
+#: Residues of X_P modulo the first prime all below this (symmetric): X is tried as an
+#: integral solution with Δ = 1 (``solve_left`` of W = X0·M with a small integral X0).
+SMALL = 1 << 40
 
 _PRIMES: list[int] = []
 
@@ -105,27 +110,11 @@ def solve_reduced_crt(
     rest = [j for j in range(m) if j not in lead]
     if len(rest) != n or not lead or D < max(lead.values()) or dm == 0 or not any(lead.values()):
         return None
-    # P-unknowns (j, e), e < d_j, and the integer blocks of the recurrence
-    pu = [(j, e) for j in piv for e in range(lead[j])]
-    up = len(pu)
-    nt = D + dm + 1
-
-    def coef(j: int, col: int, s: int) -> Any:
-        cs = mi[j][col]
-        return cs[s] if 0 <= s < len(cs) else 0
-
-    a_int = [flint.fmpz_mat(n, n, [coef(j, col, s) for j in rest for col in range(n)]) for s in range(dm + 1)]
-    h_int = [flint.fmpz_mat(up, n, [coef(j, col, t - e) for j, e in pu for col in range(n)]) for t in range(nt)]
-    b_int = [flint.fmpz_mat(k, n, [b[t * n + col][v] for v in range(k) for col in range(n)]) for t in range(nt)]
-    r_int = [flint.fmpz_mat(k + up, n, [b[t * n + col][v] for v in range(k) for col in range(n)]
-                            + [-coef(j, col, t - e) for j, e in pu for col in range(n)]) for t in range(nt)]
-    # 0/1 matrices: the tail blocks side by side, the top k / bottom u_P rows
-    wide = dm * n
-    emb = [flint.fmpz_mat(n, wide, [int(c == i * n + r) for r in range(n) for c in range(wide)]) for i in range(dm)]
-    top = flint.fmpz_mat(k, k + up, [int(c == r) for r in range(k) for c in range(k + up)])
-    bot = flint.fmpz_mat(up, k + up, [int(c == k + r) for r in range(up) for c in range(k + up)])
+    blocks = _Blocks.of(mi, dm, n, D, piv, lead, b, k)
+    pu = blocks.pu
     columns = [e * m + j for j in rest for e in range(D + 1)] + [e * m + j for j, e in pu]
     bound = _hadamard_bits(mi, m, columns, [[b[r][v] for r in range(len(b))] for v in range(k)])
+    up = blocks.up
 
     sel = None  # the columns C, as a wide × u_P 0/1 matrix
     delta = flint.fmpz(0)
@@ -133,7 +122,7 @@ def solve_reduced_crt(
     modulus = flint.fmpz(1)
     primes = word_primes(bound // 60 + 12)
     for p in primes:
-        got = _solve_mod_p(p, a_int, r_int, emb, top, bot, D, dm, k, up, sel)
+        got = _solve_mod_p(p, blocks, sel)
         if got is None:
             if sel is None:
                 return None  # A_0 or E_G singular modulo the first prime
@@ -141,8 +130,17 @@ def solve_reduced_crt(
         if isinstance(got, str):
             return NO_SOLUTION
         x_p, det_p, sel = got
+        half = p // 2
+        if modulus == 1:  # an integral solution of small entries is its own residue
+            small = [v if v <= half else v - p for v in map(int, x_p.entries())]
+            if all(-SMALL < v < SMALL for v in small):
+                one = flint.fmpz(1)
+                y_one = flint.fmpz_mat(k, up, small)
+                done = _finish(one, y_one, blocks)
+                if done is not None:
+                    return _rows(done, y_one, one, rest, pu, m, D, k), one
         if modulus != 1 and int(delta % p) == det_p and flint.nmod_mat(y_p, p) == x_p * det_p:
-            done = _finish(delta, y_p, a_int, h_int, b_int, D, dm, k)
+            done = _finish(delta, y_p, blocks)
             if done is not None:
                 return _rows(done, y_p, delta, rest, pu, m, D, k), delta
         # Garner: the remainders modulo modulus·p, symmetric
@@ -150,46 +148,136 @@ def solve_reduced_crt(
         t_delta = (det_p - int(delta % p)) * inv % p
         delta += modulus * (t_delta if t_delta <= p // 2 else t_delta - p)
         diff = (x_p * det_p - flint.nmod_mat(y_p, p)) * inv
-        half = p // 2
         y_p += flint.fmpz_mat(k, up, [v if v <= half else v - p for v in map(int, diff.entries())]) * modulus
         modulus *= p
         if modulus.bit_length() > bound + 1:
-            done = _finish(delta, y_p, a_int, h_int, b_int, D, dm, k)
+            done = _finish(delta, y_p, blocks)
             if done is None:  # pragma: no cover - exact remainders of a solution pass the check
                 return None
             return _rows(done, y_p, delta, rest, pu, m, D, k), delta
     return None  # pragma: no cover - the primes exceed the bound
 
 
+@dataclass
+class _Blocks:
+    """The integer matrices of the elimination modulo p (module text), built once.
+
+    ``g_t = −Σ_s g_(t−s)·A_s·A_0⁻¹ − H_t·A_0⁻¹`` is computed for the q pivot rows
+    (j, 0) only: the unknown (j, e) is the shift δ^e of (j, 0), and the recurrence is
+    shift invariant, so its row of G_t is row (j, 0) of G_(t−e) (zero for t < e).  The
+    tail then reads ``E_G = −H_cat − Σ_w 𝒢_w·A_cat,w`` with ``𝒢_w`` the rows
+    ``G^j_(D−e−w)`` for the unknowns (j, e), gathered from the ``g_u`` into ``g_star``
+    (rows ``G^j_(D−e)``, e < d_j + dm − 1) and selected by ``sel_w``; and
+    ``E_F = B_cat − Σ_v F_(D−v)·A_cat,v``, where ``A_cat,v`` holds ``A_(i+v)`` in block
+    i = 1, …, dm (zero beyond dm)."""
+
+    a: list[flint.fmpz_mat]  # A_s, n × n
+    b: list[flint.fmpz_mat]  # B_t, k × n, t = 0, …, D + dm
+    hb: list[flint.fmpz_mat]  # −H_t on the rows (j, 0), q × n, t = 0, …, dm
+    acat: list[flint.fmpz_mat]  # A_cat,v, n × n·dm, v = 0, …, dm − 1
+    bcat: flint.fmpz_mat  # B_(D+i) in block i, k × n·dm
+    hcat: flint.fmpz_mat  # row (j, e), block i: coefficient D + i − e of M[j]; u_P × n·dm
+    place: list[tuple[int, flint.fmpz_mat]]  # (u, g_star rows ← g_u)
+    sel: list[flint.fmpz_mat]  # sel_w: u_P × rows of g_star
+    pu: list[tuple[int, int]]  # the unknowns (j, e), e < d_j, of x_P, in the order of X_P's columns
+    by_degree: list[list[tuple[int, int]]]  # for each e: (jj, column of (piv[jj], e) in X_P)
+    D: int
+    dm: int
+    k: int
+    up: int
+
+    @classmethod
+    def of(cls, mi: IntCoeffs, dm: int, n: int, D: int, piv: list[int], lead: dict[int, int],
+           b: list[list[Any]], k: int) -> _Blocks:
+        """The matrices for M (integer coefficients ``mi``, degree dm; ``piv``: the
+        kernel's pivots, the others are the rows R, in order) and the right-hand sides ``b``
+        (as for :func:`solve_reduced_crt`)."""
+        rest = [j for j in range(len(mi)) if j not in lead]
+        pu = [(j, e) for j in piv for e in range(lead[j])]
+        q, up, wide, nt = len(piv), len(pu), dm * n, D + dm + 1
+        a_lists: list[list[Any]] = [[0] * (n * n) for _ in range(dm + 1)]
+        for r, j in enumerate(rest):
+            for col, cs in enumerate(mi[j]):
+                for s, x in enumerate(cs):
+                    a_lists[s][r * n + col] = x
+        b_lists = [[b[t * n + col][v] for v in range(k) for col in range(n)] for t in range(nt)]
+
+        def coef(j: int, col: int, s: int) -> Any:
+            cs = mi[j][col]
+            return cs[s] if 0 <= s < len(cs) else 0
+
+        hb = [flint.fmpz_mat(q, n, [-coef(j, col, t) for j in piv for col in range(n)]) for t in range(dm + 1)]
+        acat = []
+        for v in range(dm):
+            xs: list[Any] = [0] * (n * wide)
+            for i in range(1, dm - v + 1):
+                src = a_lists[i + v]
+                for r in range(n):
+                    xs[r * wide + (i - 1) * n:r * wide + i * n] = src[r * n:(r + 1) * n]
+            acat.append(flint.fmpz_mat(n, wide, xs))
+        bcat = flint.fmpz_mat(k, wide, [b_lists[D + i][v * n + col] for v in range(k)
+                                        for i in range(1, dm + 1) for col in range(n)])
+        hcat = flint.fmpz_mat(up, wide, [coef(j, col, D + i - e) for j, e in pu
+                                         for i in range(1, dm + 1) for col in range(n)])
+        star = [(jj, e) for jj, j in enumerate(piv) for e in range(lead[j] + dm - 1)]
+        row_of = {x: r for r, x in enumerate(star)}
+        place = []
+        for u in range(D + 1):
+            hits = [(r, jj) for r, (jj, e) in enumerate(star) if D - e == u]
+            if hits:
+                xs = [0] * (len(star) * q)
+                for r, jj in hits:
+                    xs[r * q + jj] = 1
+                place.append((u, flint.fmpz_mat(len(star), q, xs)))
+        jj_of = {j: jj for jj, j in enumerate(piv)}
+        sel = []
+        for w in range(dm):
+            xs = [0] * (up * len(star))
+            for r, (j, e) in enumerate(pu):
+                xs[r * len(star) + row_of[jj_of[j], e + w]] = 1
+            sel.append(flint.fmpz_mat(up, len(star), xs))
+        by_degree: list[list[tuple[int, int]]] = [[] for _ in range(max(lead.values()))]
+        for c, (j, e) in enumerate(pu):
+            by_degree[e].append((jj_of[j], c))
+        return cls([flint.fmpz_mat(n, n, x) for x in a_lists], [flint.fmpz_mat(k, n, xs) for xs in b_lists],
+                   hb, acat, bcat, hcat, place, sel, pu, by_degree, D, dm, k, up)
+
+
 def _solve_mod_p(
-    p: int, a_int: list[flint.fmpz_mat], r_int: list[flint.fmpz_mat], emb: list[flint.fmpz_mat],
-    top: flint.fmpz_mat, bot: flint.fmpz_mat, D: int, dm: int, k: int, up: int,
-    sel: flint.fmpz_mat | None,
+    p: int, bl: _Blocks, sel: flint.fmpz_mat | None,
 ) -> tuple[flint.nmod_mat, int, flint.fmpz_mat] | str | None:
     """``(X_P mod p, Δ mod p, C)`` by the block elimination of the module text (C chosen
     here when ``sel`` is None); None when A_0 or ``E_G[:, C]`` is singular modulo p;
     :data:`NO_SOLUTION` when the remaining equations are inconsistent modulo p."""
-    a = [flint.nmod_mat(x, p) for x in a_int]
+    D, dm, up = bl.D, bl.dm, bl.up
+    a = [flint.nmod_mat(x, p) for x in bl.a]
     try:
         a0inv = a[0].inv()
     except ZeroDivisionError:
         return None
-    z: list[flint.nmod_mat] = []
+    f: list[flint.nmod_mat] = []
+    g: list[flint.nmod_mat] = []
     for t in range(D + 1):
-        acc = flint.nmod_mat(r_int[t], p)
+        acc_f = flint.nmod_mat(bl.b[t], p)
+        acc_g = flint.nmod_mat(bl.hb[t], p) if t <= dm else None
         for s in range(1, min(t, dm) + 1):
-            acc -= z[t - s] * a[s]
-        z.append(acc * a0inv)
-    tail = None
-    for i, t in enumerate(range(D + 1, D + dm + 1)):
-        acc = flint.nmod_mat(r_int[t], p)
-        for e in range(t - dm, D + 1):
-            acc -= z[e] * a[t - e]
-        part = acc * flint.nmod_mat(emb[i], p)
-        tail = part if tail is None else tail + part
-    assert tail is not None
-    ef = flint.nmod_mat(top, p) * tail
-    eg = flint.nmod_mat(bot, p) * tail
+            acc_f -= f[t - s] * a[s]
+            acc_g = -(g[t - s] * a[s]) if acc_g is None else acc_g - g[t - s] * a[s]
+        f.append(acc_f * a0inv)
+        assert acc_g is not None
+        g.append(acc_g * a0inv)
+    acat = [flint.nmod_mat(x, p) for x in bl.acat]
+    ef = flint.nmod_mat(bl.bcat, p)
+    for v in range(min(dm, D + 1)):
+        ef -= f[D - v] * acat[v]
+    star = None
+    for u, pl in bl.place:
+        part = flint.nmod_mat(pl, p) * g[u]
+        star = part if star is None else star + part
+    assert star is not None
+    eg = -flint.nmod_mat(bl.hcat, p)
+    for w in range(dm):
+        eg -= flint.nmod_mat(bl.sel[w], p) * star * acat[w]
     if sel is None:
         red, rank = eg.rref()
         if rank < up:
@@ -213,31 +301,52 @@ def _solve_mod_p(
     return x_p, det_p, sel
 
 
-def _finish(
-    delta: flint.fmpz, y_p: flint.fmpz_mat, a_int: list[flint.fmpz_mat], h_int: list[flint.fmpz_mat],
-    b_int: list[flint.fmpz_mat], D: int, dm: int, k: int,
-) -> list[flint.fmpz_mat] | None:
+def _finish(delta: flint.fmpz, y_p: flint.fmpz_mat, bl: _Blocks) -> list[flint.fmpz_mat] | None:
     """``Y_R,t = Δ·X_R,t`` for t = 0, …, D from the recurrence over Z, and the exact check of
-    every coefficient of ``Y·M = Δ·B``; None when a division is not exact or the check
-    fails (a wrong candidate)."""
+    ``Y·M = Δ·B``; None when a division is not exact or the check fails (a wrong candidate).
+
+    Each ``Y_R,t`` is ``acc_t·A_0⁻¹`` with ``acc_t = Δ·B_t − Y_P·H_t − Σ_s Y_R,t−s·A_s``,
+    computed as ``acc_t·N/d`` (``A_0⁻¹ = N/d``) with an exact division, which fails
+    (DomainError) unless the quotient is integral; so ``Y_R,t·A_0 = acc_t`` holds exactly,
+    which is coefficient t ≤ D of ``Y·M = Δ·B``.  The coefficients t = D + 1, …, D + dm are
+    compared here: all of ``Y·M = Δ·B`` then holds exactly.  ``Y_P·H_t`` is
+    ``Σ_e Y^(e)·M_P,t−e`` with ``Y^(e)`` the columns (j, e) of Y_P (the shift structure of
+    :class:`_Blocks`)."""
     if delta == 0:
         return None
-    inv0 = flint.fmpq_mat(a_int[0]).inv()
-    num0, den0 = inv0.numer_denom()
+    D, dm, k = bl.D, bl.dm, bl.k
+    num0, den0 = flint.fmpq_mat(bl.a[0]).inv().numer_denom()
+    q = bl.hb[0].nrows()
+    ent = y_p.entries()
+    ys = []
+    for cols in bl.by_degree:
+        xs: list[Any] = [0] * (k * q)
+        for jj, c in cols:
+            for v in range(k):
+                xs[v * q + jj] = ent[v * bl.up + c]
+        ys.append(flint.fmpz_mat(k, q, xs))
+
+    def minus_yh(t: int) -> flint.fmpz_mat:  # −Y_P·H_t (hb = −M_P)
+        acc = None
+        for e in range(max(t - dm, 0), min(t, len(ys) - 1) + 1):
+            part = ys[e] * bl.hb[t - e]
+            acc = part if acc is None else acc + part
+        return acc if acc is not None else flint.fmpz_mat(k, bl.hb[0].ncols())
+
     yr: list[flint.fmpz_mat] = []
     try:
         for t in range(D + 1):
-            acc = b_int[t] * delta - y_p * h_int[t]
+            acc = bl.b[t] * delta + minus_yh(t)
             for s in range(1, min(t, dm) + 1):
-                acc -= yr[t - s] * a_int[s]
+                acc -= yr[t - s] * bl.a[s]
             yr.append(acc * num0 / den0)
     except DomainError:  # not an exact division
         return None
-    for t in range(len(b_int)):
-        acc = y_p * h_int[t]
-        for e in range(max(t - dm, 0), min(t, D) + 1):
-            acc += yr[e] * a_int[t - e]
-        if acc != b_int[t] * delta:
+    for t in range(D + 1, D + dm + 1):
+        acc = bl.b[t] * delta + minus_yh(t)
+        for e in range(max(t - dm, 0), D + 1):
+            acc -= yr[e] * bl.a[t - e]
+        if not acc.is_zero():
             return None
     return yr
 
