@@ -15,7 +15,9 @@ for that order.  So:
    ``(x_0, …, x_D) ↦ coefficients of x·M``.  The generators of its reduced echelon
    basis come from the column rank profile modulo a word prime and one exact square
    solve, certified exactly (:mod:`uio_ring.ring._kernel_lead`), when the kernel has
-   at least m/2 rows; otherwise, or when that prime is unlucky, from
+   at least m/2 rows or M has full column rank (then that solve is a Schur complement
+   on the kernel's pivot columns modulo word primes, :mod:`uio_ring.ring._reduced_crt`:
+   Σ d_i unknowns instead of N); otherwise, or when that prime is unlucky, from
    ``fmpz_mat.nullspace`` and one ``rref`` (python-flint, in C), whose cost grows
    with the dimension of the nullspace.
 2. The generators are the basis vectors led by δ^e·e_j with δ^(e−1)·e_j not a
@@ -43,7 +45,10 @@ The same matrices give the transforms (:func:`solve_reduced`): the solution X of
 ``X·M = W`` reduced modulo the Popov kernel basis has unknowns exactly at the
 non-leading monomials, which are the pivot columns of the Toeplitz matrix, so it
 is the unique solution of one square system — Hermite's U = [X; K] for
-rank M < rows, tall left inverses, ``solve_left`` for tall V.
+rank M < rows, tall left inverses, ``solve_left`` for tall V.  For M of full column
+rank that system is solved by block elimination modulo word primes and Chinese
+remaindering (:mod:`uio_ring.ring._reduced_crt`; 28×24 of degree 2 with 24 right-hand
+sides: 20 primes at about 1.4 ms each, against 0.35 s for the exact 360×360 solve).
 """
 
 from __future__ import annotations
@@ -203,7 +208,8 @@ def _generator_degree_mod_p(
     and the column rank profile modulo :data:`~uio_ring.ring._kernel_lead.PRIME` of
     ``T_D'`` (``residues``: the coefficients of M modulo p).
 
-    The profiles of ``T_0, T_1, T_3, …`` (below D), then of ``T_D``, are computed until
+    The profiles of ``T_0, T_1, T_3, …`` (those with at most half the columns of
+    ``T_D``: a larger probe would save less than it costs), then of ``T_D``, are computed until
     one has k generators (as many as Popov rows over Q): D' is then the greatest degree
     among them — the profile of ``T_D'`` is the part of that profile on its first
     m·(D' + 1) columns (those columns vanish outside the rows of ``T_D'``, and a column
@@ -218,7 +224,7 @@ def _generator_degree_mod_p(
     probes = [0]
     while 2 * probes[-1] + 1 < D:
         probes.append(2 * probes[-1] + 1)
-    for d in [x for x in probes if x < D] + [D]:
+    for d in [x for x in probes if 2 * (x + 1) <= D + 1] + [D]:
         cols = m * (d + 1)
         pivots = column_profile(_toeplitz_mod_p(residues, m, n, dm, d))
         is_pivot = [False] * cols
