@@ -17,7 +17,7 @@ from __future__ import annotations
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
-from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
+from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
 from uio_ring.ring._predicates import coprime_maximal_minors, is_unimodular_raw, rank_raw
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import _hermite_by_small_elimination
@@ -105,11 +105,12 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         # A returned X is checked exactly (X·M = I), which itself proves that M is left
         # unimodular: two degree bounds first, and all of them only when the minors are
         # proved coprime (the proof costs more than the usual first solve).
-        K = popov_left_kernel(M._r, m, n)
+        coeffs = ToeplitzCoefficients.of(M._r, m, n)  # one conversion for both
+        K = popov_left_kernel(M._r, m, n, coeffs=coeffs)
         if K is not None:
-            X = solve_reduced(M._r, m, n, K, dn.identity(n), tries=2)
+            X = solve_reduced(M._r, m, n, K, dn.identity(n), tries=2, coeffs=coeffs)
             if X is None and coprime_maximal_minors(M._r, m, n, exact=False):
-                X = solve_reduced(M._r, m, n, K, dn.identity(n))
+                X = solve_reduced(M._r, m, n, K, dn.identity(n), coeffs=coeffs)
             if X is not None:
                 return PolyMatrix._new(X, n, m, M.var)
     u = dn.identity(m)
