@@ -14,7 +14,15 @@ from hypothesis import strategies as st
 from uio_ring.ring import PolyMatrix
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
-from uio_ring.ring._reduced_crt import NO_SOLUTION, _Blocks, _finish, solve_reduced_crt, word_primes
+from uio_ring.ring._reduced_crt import (
+    NO_SOLUTION,
+    SHIFTS,
+    _Blocks,
+    _finish,
+    _taylor_shift,
+    solve_reduced_crt,
+    word_primes,
+)
 
 
 def _tall(rng: random.Random, n: int, extra: int, deg: int, rational: bool) -> PolyMatrix:
@@ -143,7 +151,7 @@ def test_what_it_does_not_handle_is_handed_back():
     W = PolyMatrix("[[1, d, 1 + d]]")
     assert solve_reduced_crt(c.mi, c.dm, 6, 3, D, lead, _integer_rhs(c, W, 3, D), 1) is None
     # A_0 = M_R(0) singular (every row a multiple of δ but the kernel's pivot rows):
-    # handed back, and the square system answers the same
+    # solved for M(δ + 1) and shifted back, the same as the square system's
     M2 = PolyMatrix("[[d, 2*d], [d**2, d], [1, 0], [0, 1], [1, 1], [2, 1]]")
     K2 = popov_left_kernel(M2._r, 6, 2)
     assert K2 is not None
@@ -153,16 +161,18 @@ def test_what_it_does_not_handle_is_handed_back():
     assert all(M2._r[j][col][0] == 0 for j in rest for col in range(2))
     D2 = max(lead2.values())
     W2 = PolyMatrix.identity(2)
-    assert solve_reduced_crt(c2.mi, c2.dm, 6, 2, D2, lead2, _integer_rhs(c2, W2, 2, D2), 2) is None
-    X2 = solve_reduced(M2._r, 6, 2, K2, W2._r)
-    assert X2 is not None and PolyMatrix._new(X2, 2, 6, "d") @ M2 == W2
+    got = solve_reduced_crt(c2.mi, c2.dm, 6, 2, D2, lead2, _integer_rhs(c2, W2, 2, D2), 2)
+    assert isinstance(got, tuple)
+    rows, delta = got
+    X2 = PolyMatrix._new([[flint.fmpq_poly(cs) / delta for cs in row] for row in rows], 2, 6, "d")
+    assert X2 @ M2 == W2 and X2._r == solve_reduced(M2._r, 6, 2, K2, W2._r, multimodular=False)
 
 
 @settings(max_examples=60, deadline=None)
 @given(st.integers(1, 5), st.integers(1, 4), st.integers(1, 3), st.integers(0, 10**6))
 def test_it_applies_whenever_its_conditions_hold(n, extra, deg, seed):
-    """Rank n, A_0 = M_R(0) nonsingular and a nonconstant M with a kernel of positive
-    degrees: the method answers (a solution or a proof that none exists), it does not
+    """Rank n, M_R(α) nonsingular at 0 or a point of SHIFTS and a nonconstant M with a
+    kernel of positive degrees: the method answers (a solution or a proof that none exists), it does not
     hand back (it would fall back silently to the square system: same result, slower)."""
     rng = random.Random(seed)
     M = _tall(rng, n, extra, deg, False)
@@ -177,7 +187,8 @@ def test_it_applies_whenever_its_conditions_hold(n, extra, deg, seed):
     D = max([*lead.values(), dn.mat_degree(W._r) - c.dm, 0])
     got = solve_reduced_crt(c.mi, c.dm, m, n, D, lead, _integer_rhs(c, W, n, D), 1) if c.dm > 0 else None
     applies = (len(rest) == n and c.dm > 0 and any(lead.values())
-               and PolyMatrix([[str(M._r[j][col][0]) for col in range(n)] for j in rest]).det() != 0)
+               and any(PolyMatrix([[str(M._r[j][col](alpha)) for col in range(n)] for j in rest]).det() != 0
+                       for alpha in (0, *SHIFTS)))
     assert (got is not None) == applies
     if isinstance(got, tuple):
         rows, delta = got
@@ -201,3 +212,15 @@ def test_a_degree_bound_below_the_degree_of_m():
     rows, delta = got
     X = PolyMatrix._new([[flint.fmpq_poly(cs) / delta for cs in row] for row in rows], 1, 7, "d")
     assert X @ M == W and X._r == solve_reduced(M._r, 7, 1, K, W._r, multimodular=False)
+
+
+def test_taylor_shift_is_the_substitution():
+    rng = random.Random(4)
+    for _ in range(20):
+        cs = [rng.randint(-9, 9) for _ in range(rng.randint(1, 6))] + [0] * rng.randint(0, 2)
+        alpha = rng.choice(SHIFTS)
+        got = _taylor_shift(cs, alpha)
+        assert len(got) == len(cs)
+        p = flint.fmpz_poly(cs)
+        assert flint.fmpz_poly(got) == p(flint.fmpz_poly([alpha, 1]))
+        assert _taylor_shift(got, -alpha) == cs

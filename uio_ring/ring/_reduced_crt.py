@@ -105,11 +105,68 @@ def solve_reduced_crt(
     ``b`` holds the integer coefficients of B: ``b[t·n + l][v]`` = coefficient t of
     entry (v, l), t = 0, …, D + dm; ``lead`` maps each pivot π_i to d_i ≤ D.  The rows of
     Δ·X are given by their integer coefficient lists (D + 1 per entry); X·M = B is checked
-    exactly before returning."""
-    piv = sorted(lead)
+    exactly before returning.
+
+    When ``A_0 = M_R(0)`` is singular (modulo the first prime) the system is solved for
+    ``M(δ + α)`` and ``B(δ + α)`` at the first α of :data:`SHIFTS` where it is not, and
+    the rows are shifted back: ``x̃·M(δ + α) = B(δ + α)`` is checked exactly, and
+    applying the automorphism δ ↦ δ − α of Q[δ] gives ``x·M = B`` for ``x = x̃(δ − α)``,
+    which has the same degrees in every column (so the same reducedness)."""
     rest = [j for j in range(m) if j not in lead]
     if len(rest) != n or not lead or D < max(lead.values()) or dm == 0 or not any(lead.values()):
         return None
+    alpha = _shift_point(mi, rest, n)
+    if alpha is None:
+        return None
+    if alpha == 0:
+        return _solve_core(mi, dm, m, n, D, lead, b, k)
+    # x̃(δ) = x(δ + α) solves x̃·M(δ + α) = B(δ + α): the same degrees, so the same leading
+    # positions and the same reducedness; the substitution is an automorphism of Q[δ]
+    mi_s = [[_taylor_shift(cs, alpha) for cs in row] for row in mi]
+    b_s: list[list[Any]] = [[0] * k for _ in range(len(b))]
+    for v in range(k):
+        for col in range(n):
+            shifted = _taylor_shift([b[t * n + col][v] for t in range(len(b) // n)], alpha)
+            for t, x in enumerate(shifted):
+                b_s[t * n + col][v] = x
+    got = _solve_core(mi_s, dm, m, n, D, lead, b_s, k)
+    if not isinstance(got, tuple):
+        return got
+    rows, delta = got
+    return [[_taylor_shift(cs, -alpha) for cs in row] for row in rows], delta
+
+
+#: The points α tried for the substitution δ → δ + α when ``M_R(0)`` is singular.
+SHIFTS = (1, -1, 2, -2, 3, -3)
+
+
+def _shift_point(mi: IntCoeffs, rest: list[int], n: int) -> int | None:
+    """The first α of 0 and :data:`SHIFTS` with ``M_R(α)`` nonsingular modulo the first
+    word prime, or None (then ``M_R`` is singular at all of them modulo p)."""
+    p = word_primes(1)[0]
+    for alpha in (0, *SHIFTS):
+        vals = [sum(int(c) * pow(alpha, s, p) for s, c in enumerate(mi[j][col])) % p for j in rest for col in range(n)]
+        if flint.nmod_mat(n, n, vals, p).det() != 0:
+            return alpha
+    return None
+
+
+def _taylor_shift(cs: list[Any], alpha: int) -> list[Any]:
+    """The coefficients of c(δ + α), as many as those of c (integers).
+
+    >>> _taylor_shift([1, 2, 1], -1)     # (δ − 1 + 1)² = δ²
+    [0, 0, 1]
+    """
+    got = flint.fmpz_poly(cs)(flint.fmpz_poly([alpha, 1])).coeffs() if any(cs) else []
+    return list(got) + [0] * (len(cs) - len(got))
+
+
+def _solve_core(
+    mi: IntCoeffs, dm: int, m: int, n: int, D: int, lead: dict[int, int], b: list[list[Any]], k: int,
+) -> tuple[list[list[list[Any]]], flint.fmpz] | str | None:
+    """:func:`solve_reduced_crt` once ``A_0`` is known nonsingular modulo the first prime."""
+    piv = sorted(lead)
+    rest = [j for j in range(m) if j not in lead]
     blocks = _Blocks.of(mi, dm, n, D, piv, lead, b, k)
     pu = blocks.pu
     columns = [e * m + j for j in rest for e in range(D + 1)] + [e * m + j for j, e in pu]
