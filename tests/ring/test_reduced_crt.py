@@ -22,6 +22,7 @@ from uio_ring.ring._reduced_crt import (
     _taylor_shift,
     solve_reduced_crt,
     word_primes,
+    worthwhile,
 )
 
 
@@ -171,8 +172,8 @@ def test_what_it_does_not_handle_is_handed_back():
 @settings(max_examples=60, deadline=None)
 @given(st.integers(1, 5), st.integers(1, 4), st.integers(1, 3), st.integers(0, 10**6))
 def test_it_applies_whenever_its_conditions_hold(n, extra, deg, seed):
-    """Rank n, M_R(α) nonsingular at 0 or a point of SHIFTS and a nonconstant M with a
-    kernel of positive degrees: the method answers (a solution or a proof that none exists), it does not
+    """Rank n, M_R(α) nonsingular at 0 or a point of SHIFTS, 0 < deg M ≤ n and a kernel of
+    positive degrees: the method answers (a solution or a proof that none exists), it does not
     hand back (it would fall back silently to the square system: same result, slower)."""
     rng = random.Random(seed)
     M = _tall(rng, n, extra, deg, False)
@@ -186,7 +187,7 @@ def test_it_applies_whenever_its_conditions_hold(n, extra, deg, seed):
     W = X0 @ M
     D = max([*lead.values(), dn.mat_degree(W._r) - c.dm, 0])
     got = solve_reduced_crt(c.mi, c.dm, m, n, D, lead, _integer_rhs(c, W, n, D), 1) if c.dm > 0 else None
-    applies = (len(rest) == n and c.dm > 0 and any(lead.values())
+    applies = (len(rest) == n and worthwhile(n, c.dm) and any(lead.values())
                and any(PolyMatrix([[str(M._r[j][col](alpha)) for col in range(n)] for j in rest]).det() != 0
                        for alpha in (0, *SHIFTS)))
     assert (got is not None) == applies
@@ -198,20 +199,36 @@ def test_it_applies_whenever_its_conditions_hold(n, extra, deg, seed):
 
 
 def test_a_degree_bound_below_the_degree_of_m():
-    # D = 1 < dm = 3: the tail sums start at coefficient 0, not at D + i − dm < 0
-    M = PolyMatrix("[[0], [27], [24 - 12*d - 4*d**2], [36 - 24*d], [0], [12 - 12*d - 18*d**2],"
-                   " [-12 - 24*d + 8*d**2 + 12*d**3]]")
-    K = popov_left_kernel(M._r, 7, 1, min_rows=0)
-    assert K is not None
+    # 12×3 of degree 3: nine kernel rows of degree 1, so D = 1 < dm − 1 = 2 and the tail
+    # sums start at coefficient 0, not at D + i − dm < 0
+    rng = random.Random(2)
+    M = _tall(rng, 3, 9, 3, False)
+    M = PolyMatrix([[str(M[r, c] + PolyMatrix([[f"{rng.randint(1, 3)}*d**3"]])[0, 0]) for c in range(3)]
+                    for r in range(12)])
+    K = popov_left_kernel(M._r, 12, 3)
+    assert K is not None and M.rank() == 3
     lead = _lead(K)
-    assert max(lead.values()) == 1
-    W = PolyMatrix("[[258 - 297*d - 100*d**2 + 66*d**3]]")
-    c = ToeplitzCoefficients.of(M._r, 7, 1)
-    got = solve_reduced_crt(c.mi, c.dm, 7, 1, 1, lead, _integer_rhs(c, W, 1, 1), 1)
+    c = ToeplitzCoefficients.of(M._r, 12, 3)
+    assert c.dm == 3 and max(lead.values()) == 1
+    X0 = PolyMatrix([[str(rng.randint(-2, 2)) for _ in range(12)]])
+    W = X0 @ M
+    got = solve_reduced_crt(c.mi, c.dm, 12, 3, 1, lead, _integer_rhs(c, W, 3, 1), 1)
     assert isinstance(got, tuple)
     rows, delta = got
-    X = PolyMatrix._new([[flint.fmpq_poly(cs) / delta for cs in row] for row in rows], 1, 7, "d")
-    assert X @ M == W and X._r == solve_reduced(M._r, 7, 1, K, W._r, multimodular=False)
+    X = PolyMatrix._new([[flint.fmpq_poly(cs) / delta for cs in row] for row in rows], 1, 12, "d")
+    assert X @ M == W and X._r == solve_reduced(M._r, 12, 3, K, W._r, multimodular=False)
+
+
+def test_few_columns_of_high_degree_are_left_to_the_square_system():
+    M = PolyMatrix("[[1 + d**5, d], [d**4, 1], [d**5 - 2, d**3 + 1]]")
+    K = popov_left_kernel(M._r, 3, 2, min_rows=0)
+    assert K is not None
+    c = ToeplitzCoefficients.of(M._r, 3, 2)
+    lead = _lead(K)
+    D = max(lead.values())
+    W = PolyMatrix.identity(2)
+    assert not worthwhile(2, c.dm)
+    assert solve_reduced_crt(c.mi, c.dm, 3, 2, D, lead, _integer_rhs(c, W, 2, D), 2) is None
 
 
 def test_taylor_shift_is_the_substitution():

@@ -71,7 +71,7 @@ from uio_ring.ring._kernel_lead import (
 )
 from uio_ring.ring._kronecker import scaled_numerator
 from uio_ring.ring._predicates import rank_raw
-from uio_ring.ring._reduced_crt import solve_reduced_crt
+from uio_ring.ring._reduced_crt import solve_reduced_crt, worthwhile
 
 __all__ = ["popov_left_kernel", "solve_reduced", "ToeplitzCoefficients", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
 
@@ -266,7 +266,7 @@ def popov_left_kernel(
         # (n+4)×n: 4 kernel rows); a large one (a 216×32 observability matrix: 184
         # rows) swells it, the modular rank profile and one square solve do not
         lead = None
-        if 2 * k >= m or r == n:
+        if 2 * k >= m or (r == n and worthwhile(n, dm)):
             D_use, pivots = _generator_degree_mod_p(coeffs.residues, m, n, dm, D, k)
             if 2 * k >= m:
                 lead = generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D_use, None),

@@ -181,11 +181,11 @@ def generators_by_crt(
 
     >>> from uio_ring.ring._kernel_basis import _integer_coefficients, _toeplitz_entries
     >>> from uio_ring.ring.matrix import PolyMatrix
-    >>> M = PolyMatrix("[[1], [d], [d**2 + 1]]")
-    >>> mi = _integer_coefficients(M._r, 3, 1)
-    >>> piv = pivot_columns_mod_p(_toeplitz_entries(mi, 3, 1, 2, 1, None), 4, 6)
-    >>> [(idx, [str(c) for c in g]) for idx, g in generators_by_crt(mi, 2, 3, 1, 1, piv)]
-    [(3, ['0', '-1', '0', '1', '0', '0']), (4, ['1', '0', '-1', '0', '1', '0'])]
+    >>> M = PolyMatrix("[[1, 0], [0, 1], [d, d]]")   # kernel [d, d, −1]
+    >>> mi = _integer_coefficients(M._r, 3, 2)
+    >>> piv = pivot_columns_mod_p(_toeplitz_entries(mi, 3, 2, 1, 1, None), 6, 6)
+    >>> [(idx, [str(c) for c in g]) for idx, g in generators_by_crt(mi, 1, 3, 2, 1, piv)]
+    [(4, ['0', '0', '-1', '1', '1', '0'])]
     """
     cols = m * (D + 1)
     is_pivot = [False] * cols
