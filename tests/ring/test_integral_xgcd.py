@@ -114,6 +114,18 @@ def test_columns_of_a_unimodular_matrix_eliminate_without_scaling():
     assert U.det().degree() == 0 and abs(U.det().coeffs()[0]) == 1
 
 
+def test_elimination_without_scaling_stops_at_the_first_scaled_row():
+    # a quotient 1/2 (pivot 2δ + 1 of the first column) scales a row: refused without
+    # scaling; the columns of a unimodular matrix need no scaling and pass
+    N = PolyMatrix([["2*d + 1", 1], [2, 0], ["3*d", 1]])
+    z, _ = zi.to_integer_rows(N._r)
+    with pytest.raises(zi.Scaled):
+        zi.row_echelon_int(z, zi.identity(3), 3, 2, scaling=False)
+    M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"], [2, "d - 1"]])
+    z, _ = zi.to_integer_rows(M._r)
+    assert zi.row_echelon_int(z, zi.identity(4), 4, 2, scaling=False) == [0, 1]
+
+
 @given(st.lists(st.integers(-20, 20), min_size=1, max_size=6), st.lists(st.integers(-20, 20), min_size=1, max_size=4))
 def test_quotient_clears_the_least_denominator(xs, ys):
     # D·x = Q·y + R with deg R < deg y, Q/D the rational quotient in lowest terms

@@ -311,7 +311,9 @@ def _hermite_by_small_elimination(
     cap stops those early and the caller takes the Toeplitz path.  ``rows``: a copy
     of the rows of M to work in (the caller keeps it: half eliminated when the cap
     stops the elimination).  ``xgcd_rows``: see :func:`row_echelon` (the rational
-    elimination only).  ``cap_bits``: instead of ``ELIMINATION_BITS``.  ``capped``:
+    elimination only).  ``cap_bits``: instead of ``ELIMINATION_BITS``, and then the
+    integral elimination may scale rows (fraction free; else it gives way to the rational
+    one at the first scaling, whose cap stops a swelling elimination sooner).  ``capped``:
     whether the cap applies (default: from ``CAP_MIN_ENTRIES`` entries or
     ``CAP_MIN_DEGREE`` on).
 
@@ -326,7 +328,7 @@ def _hermite_by_small_elimination(
     if capped is None:
         capped = m * n >= CAP_MIN_ENTRIES or dn.mat_degree(M._r) >= CAP_MIN_DEGREE
     try:
-        got = _echelon_integral(M._r, m, n, bits if capped else None, rows)
+        got = _echelon_integral(M._r, m, n, bits if capped else None, rows, scaling=cap_bits is not None)
     except CoefficientGrowth:
         return None
     if got is not None:
@@ -356,13 +358,14 @@ INTEGRAL_MIN_ENTRIES = 60
 
 
 def _echelon_integral(
-    a: dn.Rows, m: int, n: int, cap_bits: int | None, rows: dn.Rows | None = None
+    a: dn.Rows, m: int, n: int, cap_bits: int | None, rows: dn.Rows | None = None, scaling: bool = True
 ) -> tuple[dn.Rows, dn.Rows, list[int]] | None:
     """:func:`row_echelon` with transform and :func:`normalise` of the m×n rows ``a``
     fraction free over Z[δ] (:mod:`uio_ring.ring._integral`: the same steps with each row
     scaled by a constant, and the same exact result — up to a constant factor in the
     rows of U beyond the rank, a basis of the left kernel): ``(H rows, U rows, pivots)``;
-    None below ``INTEGRAL_MIN_ENTRIES`` entries.  A row of ``a`` with denominators
+    None below ``INTEGRAL_MIN_ENTRIES`` entries, or without ``scaling`` when a step
+    would scale a row (:class:`~uio_ring.ring._integral.Scaled`).  A row of ``a`` with denominators
     is first multiplied by their least common multiple c (U then starts as diag(c)).
     Raises :class:`CoefficientGrowth` when the elimination stops on its cap
     ``cap_bits + 4·max_bits(a)`` (its own, lighter test; no cap when ``cap_bits`` is
@@ -375,11 +378,13 @@ def _echelon_integral(
     uz = zi.identity(m, scales)
     cap = None if cap_bits is None else cap_bits + 4 * zi.max_bits(z)
     try:
-        pivots = zi.row_echelon_int(z, uz, m, n, bit_cap=cap)
+        pivots = zi.row_echelon_int(z, uz, m, n, bit_cap=cap, scaling=scaling)
     except CoefficientGrowth:
         if rows is not None:
             rows[:] = zi.to_rational_rows(z)
         raise
+    except zi.Scaled:
+        return None
     zi.normalise_int(z, uz, pivots)
     divisors = zi.pivot_divisors(z, pivots)
     return zi.to_rational_rows(z, divisors), zi.to_rational_rows(uz, divisors), pivots
