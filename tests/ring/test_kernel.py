@@ -28,6 +28,7 @@ from .strategies import (
     paper_001_M,
     rank_deficient_matrices,
     reference_rank,
+    unimodular_matrices,
 )
 
 
@@ -128,3 +129,32 @@ def test_left_kernel_of_few_rows_of_high_degree_equals_the_elimination(data):
     K = left_kernel(M)
     assert K == left_kernel_by_elimination(M)
     assert (K @ M).is_zero()
+
+
+@heavy()
+@given(st.data())
+def test_solve_left_and_left_inverse_of_few_rows_of_high_degree_equal_the_elimination(data):
+    """Below 6 rows from δ-degree CAP_MIN_DEGREE on, solve_left and left_inverse give way
+    to the Toeplitz systems when the capped elimination stops; the reduced solution and
+    the reduced left inverse are unique, so they equal the uncapped elimination's."""
+    import importlib
+
+    from uio_ring import left_inverse
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    solve_module = importlib.import_module("uio_ring.ring.solve")
+    n = data.draw(st.integers(1, 3))
+    m = data.draw(st.integers(n + 1, 5))
+    V = data.draw(unimodular_matrices(m, max_degree=2))[:, :n]  # left unimodular
+    V = V + PolyMatrix([[f"d**{hermite_module.CAP_MIN_DEGREE}" if (i, j) == (m - 1, 0) else 0
+                         for j in range(n)] for i in range(m)])
+    W = data.draw(dense_matrices(rows=2, cols=m, max_degree=1)) @ V
+    X = solve_left(V, W)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hermite_module, "CAP_MIN_DEGREE", 10**9)
+        mp.setattr(solve_module, "CAP_MIN_DEGREE", 10**9)
+        X0 = solve_left(V, W)
+        L0 = left_inverse(V) if V.rank() == n and invariant_factors(V) == (1,) * n else None
+    assert X @ V == W and X == X0
+    if L0 is not None:
+        assert left_inverse(V) == L0

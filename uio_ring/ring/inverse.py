@@ -106,7 +106,8 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         # unimodular: two degree bounds first, and all of them only when the minors are
         # proved coprime (the proof costs more than the usual first solve).
         coeffs = ToeplitzCoefficients.of(M._r, m, n)  # one conversion for both
-        K = popov_left_kernel(M._r, m, n, coeffs=coeffs)
+        # any number of rows: the elimination has stopped on its cap (few rows: of high degree)
+        K = popov_left_kernel(M._r, m, n, coeffs=coeffs, min_rows=0)
         if K is not None:
             X = solve_reduced(M._r, m, n, K, dn.identity(n), tries=2, coeffs=coeffs)
             if X is None and coprime_maximal_minors(M._r, m, n, exact=False):

@@ -28,8 +28,14 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring._division import reduce_modulo_popov
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
-from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
+from uio_ring.ring._kernel_basis import (
+    TOEPLITZ_MIN_ROWS,
+    ToeplitzCoefficients,
+    popov_left_kernel,
+    solve_reduced,
+)
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
+from uio_ring.ring.hermite import CAP_MIN_DEGREE, hermite
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
 __all__ = ["solve_left", "solve_right"]
@@ -84,11 +90,18 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         got = solve_reduced(V._r, k, n, kern, W._r, tries=3, coeffs=coeffs) if kern else None
         if got is not None:  # X·V = W checked exactly inside; X reduced modulo the kernel
             return PolyMatrix._new(got, m, k, V.var)
-    a = dn.copy(V._r)
-    u = dn.identity(k)
-    pivots = row_echelon(a, u, k, n)
-    r = len(pivots)
-    reduce_transform(u, r, popov_left_kernel(V._r, k, n) if r < k else None)
+    if k < TOEPLITZ_MIN_ROWS and dn.mat_degree(V._r) >= CAP_MIN_DEGREE:
+        # few rows of high degree: hermite's elimination gives way to the Toeplitz systems
+        # when its remainders swell (a 5×4 of degree 32: 28 → 2 s); its H and U serve the
+        # same back substitution (H[:r] = U[:r]·V, U[r:] the Popov kernel)
+        h = hermite(V)
+        a, u, pivots, r = h.H._r, h.U._r, list(h.pivots), h.rank
+    else:
+        a = dn.copy(V._r)
+        u = dn.identity(k)
+        pivots = row_echelon(a, u, k, n)
+        r = len(pivots)
+        reduce_transform(u, r, popov_left_kernel(V._r, k, n) if r < k else None)
     # the kernel rows of u are untouched by the echelon rows: a[:r] still equals u[:r] @ V
     y = []
     for i in range(m):
