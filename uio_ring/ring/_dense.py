@@ -124,7 +124,7 @@ def row_degree(row: Sequence[flint.fmpq_poly]) -> int:
 
 
 def mat_degree(a: Rows) -> int:
-    return max((row_degree(r) for r in a), default=-1)
+    return max([p.degree() for r in a for p in r], default=-1)  # one list: no call per row
 
 
 def leading_position(row: Sequence[flint.fmpq_poly | flint.fmpz_poly]) -> tuple[int, int]:

@@ -229,7 +229,6 @@ def _hermite_by_toeplitz(
     # H = [I; 0] needs rank n: a singular or rank-deficient M goes straight to the
     # elimination with transform (below); a tall one tries it under the tight cap first
     top_identity_possible = not singular and (r == -1 or r == n)
-    low_degree = dn.mat_degree(a) <= ELIMINATION_MAX_DEGREE
     if top_identity_possible and eliminate_first:
         h = dn.copy(a)
         small = _hermite_by_small_elimination(M, rows=h)
@@ -246,7 +245,7 @@ def _hermite_by_toeplitz(
         # that plus the Toeplitz nullspace and solve (rank-deficient 8×8 … 14×12)
         h = dn.copy(a)
         full = None
-        if low_degree:
+        if dn.mat_degree(a) <= ELIMINATION_MAX_DEGREE:
             full = _hermite_by_small_elimination(M, rows=h, cap_bits=FULL_ELIMINATION_BITS)
         if full is not None:
             return full
