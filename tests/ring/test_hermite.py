@@ -375,3 +375,23 @@ def test_swelling_high_degree_elimination_stops_on_its_cap():
     h = check_hermite(M)
     ref = hermite_by_elimination(M)
     assert (h.H, h.U) == (ref.H, ref.U)
+
+
+@given(matrices(max_rows=5, max_cols=5))
+def test_pivot_ties_by_small_leading_coefficient_give_the_same_forms(M):
+    """hermite's elimination breaks ties of least degree by the smallest leading
+    coefficient (fewer denominators), the default by the least row degree: other steps,
+    the same unique H and reduced U."""
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring._echelon import normalise, reduce_transform, row_echelon
+
+    m, n = M.shape
+    out = []
+    for small in (False, True):
+        a, u = dn.copy(M._r), dn.identity(m)
+        pivots = row_echelon(a, u, m, n, small_lead_ties=small)
+        normalise(a, u, pivots)
+        reduce_transform(u, len(pivots))
+        out.append((a, u, pivots))
+    assert out[0] == out[1]
+    assert PolyMatrix._new(out[1][1], m, m, M.var) @ M == PolyMatrix._new(out[1][0], m, n, M.var)

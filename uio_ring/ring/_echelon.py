@@ -49,7 +49,8 @@ def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
 
 
 def row_echelon(
-    a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | None = None, xgcd_rows: int = 2
+    a: dn.Rows, u: dn.Rows | None, m: int, n: int, bit_cap: int | None = None, xgcd_rows: int = 2,
+    small_lead_ties: bool = False,
 ) -> list[int]:
     """Row echelon form of ``a`` in place (unimodular row operations, mirrored on ``u``).
 
@@ -82,7 +83,11 @@ def row_echelon(
     A pivot that divides an entry eliminates it by one division instead, and its
     row stays unchanged: then the alternating row/column passes of the Smith form
     keep the degree of the corner entry falling until it divides its row and
-    column.  Precondition: ``u`` has m rows (not checked).
+    column.  ``small_lead_ties``: ties of least degree go to the entry whose numerator has
+    the smallest leading coefficient (fewer and smaller denominators in the quotients:
+    rank-deficient 4×4, 0.13 → 0.12 ms) instead of the least row degree; for callers
+    whose result does not depend on the steps (Hermite: H and the reduced U are unique).
+    Precondition: ``u`` has m rows (not checked).
     """
     r = 0
     pivots: list[int] = []
@@ -98,7 +103,12 @@ def row_echelon(
             least = min(col)[0]
             ties = [i for d, i in col if d == least]
             # the row degree only breaks ties (it costs a pass over the row)
-            p = ties[0] if len(ties) == 1 else min(ties, key=lambda i: (dn.row_degree(a[i]), i))
+            if len(ties) == 1:
+                p = ties[0]
+            elif small_lead_ties:
+                p = min(ties, key=lambda i: (abs(a[i][j].numer().leading_coefficient()), i))
+            else:
+                p = min(ties, key=lambda i: (dn.row_degree(a[i]), i))
             if len(nz) <= xgcd_rows:
                 for i in nz:
                     if i == p:

@@ -337,7 +337,7 @@ def _hermite_by_small_elimination(
         a = dn.copy(M._r) if rows is None else rows
         u = dn.identity(m)
         try:
-            pivots = row_echelon(a, u, m, n, bit_cap=cap, xgcd_rows=xgcd_rows)
+            pivots = row_echelon(a, u, m, n, bit_cap=cap, xgcd_rows=xgcd_rows, small_lead_ties=True)
         except CoefficientGrowth:
             return None
         normalise(a, u, pivots)
