@@ -227,3 +227,22 @@ def test_left_inverse_of_columns_of_a_unimodular_matrix_is_the_reduced_hermite_t
     X = left_inverse(M)
     assert X @ M == PolyMatrix.identity(n)
     assert X == hermite_by_elimination(M).U[:n, :]
+
+
+def test_left_inverse_of_a_tall_matrix_that_loses_rank_names_its_invariant_factors():
+    """A tall 10×6 of full column rank with every other row times δ (its maximal minors
+    share the factor δ): left_inverse refuses, naming the non-constant invariant
+    factors, before any elimination with transform."""
+    import random
+
+    from uio_ring import invariant_factors
+    from uio_ring.ring.errors import NotUnimodularError
+
+    rng = random.Random(7)
+    rows = [[f"{rng.randint(-3, 3)}*d**2 + {rng.randint(-3, 3)}*d + {rng.randint(-3, 3)}" for _ in range(6)]
+            for _ in range(10)]
+    M = PolyMatrix([[f"d*({e})" if i % 2 == 0 else e for e in row] for i, row in enumerate(rows)])
+    bad = [f for f in invariant_factors(M) if f.degree() > 0]
+    assert bad and M.rank() == 6
+    with pytest.raises(NotUnimodularError, match="not left unimodular: its invariant factor"):
+        left_inverse(M)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
-from uio_ring.ring._echelon import reduce_transform, row_echelon
+from uio_ring.ring._echelon import normalise, reduce_transform, row_echelon
 from uio_ring.ring._fraction_free import generic_factors_fraction_free, prefer_fraction_free
 from uio_ring.ring._generic import (
     GENERIC_MIN_SIZE,
@@ -255,7 +255,7 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     A non-square M of full rank min(m, n) whose maximal minors are certified coprime
     (two compressed minors, :func:`~uio_ring.ring._predicates.coprime_maximal_minors`)
     has every invariant factor 1; otherwise a tall M is replaced by the nonzero rows
-    of its row echelon form (same row module, so the same invariant factors; no
+    of its Hermite form (same row module, so the same invariant factors; no
     transform is tracked) and a wide M by its transpose.
 
     >>> from uio_ring.ring.matrix import PolyMatrix
@@ -277,6 +277,10 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
             return (Poly._wrap(bk.ONE, M.var),) * n
         a = dn.copy(M._r)
         pivots = row_echelon(a, None, m, n)
+        # normalised (the Hermite form's nonzero rows): reduced entries instead of the raw
+        # echelon's swollen ones (tall 28×24 of degree 3, not left unimodular: the square
+        # factors took 42 s on the echelon rows, 0.04 s on H)
+        normalise(a, None, pivots)
         return invariant_factors(PolyMatrix._new(a[: len(pivots)], len(pivots), n, M.var))
     if m == n >= GENERIC_MIN_SIZE_FACTORS:
         reduced = degree_reduced(M._r, n, track=False)
