@@ -244,11 +244,11 @@ def _hermite_by_toeplitz(
         # transform does, and the elimination with transform is 1.2–5× faster than
         # that plus the Toeplitz nullspace and solve (rank-deficient 8×8 … 14×12)
         h = dn.copy(a)
-        full = None
+        got = None
         if dn.mat_degree(a) <= ELIMINATION_MAX_DEGREE:
-            full = _hermite_by_small_elimination(M, rows=h, cap_bits=FULL_ELIMINATION_BITS)
-        if full is not None:
-            return full
+            got = _hermite_by_small_elimination(M, rows=h, full=True)
+        if got is not None:
+            return got
         pivots = row_echelon(h, None, m, n)
         normalise(h, None, pivots)
         r = len(pivots)
@@ -279,6 +279,14 @@ ELIMINATION_MAX_DEGREE = 8
 #: 5×4 stops in its first column; a 3×2 of degree 127 of the observability algorithm
 #: stays small and finishes in 1 ms, where the Toeplitz systems take seconds).
 CAP_MIN_DEGREE = 8
+
+
+def _few_rows_of_high_degree(M: PolyMatrix) -> bool:
+    """Fewer than ``TOEPLITZ_MIN_ROWS`` rows and δ-degree ≥ ``CAP_MIN_DEGREE``: the shape
+    where a plain elimination can swell for seconds and the callers (kernel, solve) go
+    through :func:`hermite` instead, whose capped elimination gives way to the Toeplitz
+    systems."""
+    return M.rows < TOEPLITZ_MIN_ROWS and dn.mat_degree(M._r) >= CAP_MIN_DEGREE
 #: The cap of the same elimination when the Toeplitz path would need an elimination
 #: for H anyway (H ≠ [I; 0]): a guard against runaway growth only.
 FULL_ELIMINATION_BITS = 1 << 14
@@ -289,7 +297,7 @@ CAP_MIN_ENTRIES = 40
 
 
 def _hermite_by_small_elimination(
-    M: PolyMatrix, *, rows: dn.Rows | None = None, xgcd_rows: int = 2, cap_bits: int | None = None,
+    M: PolyMatrix, *, rows: dn.Rows | None = None, xgcd_rows: int = 2, full: bool = False,
     capped: bool | None = None,
 ) -> HermiteResult | None:
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
@@ -310,9 +318,10 @@ def _hermite_by_small_elimination(
     cap stops those early and the caller takes the Toeplitz path.  ``rows``: a copy
     of the rows of M to work in (the caller keeps it: half eliminated when the cap
     stops the elimination).  ``xgcd_rows``: see :func:`row_echelon` (the rational
-    elimination only).  ``cap_bits``: instead of ``ELIMINATION_BITS``, and then the
-    integral elimination may scale rows (fraction free; else it gives way to the rational
-    one at the first scaling, whose cap stops a swelling elimination sooner).  ``capped``:
+    elimination only).  ``full``: the elimination for H ≠ [I; 0], under the runaway
+    guard ``FULL_ELIMINATION_BITS`` instead of ``ELIMINATION_BITS``, and fraction free over
+    Z[δ] (otherwise the integral elimination gives way to the rational one at the first
+    row it would scale, whose cap stops a swelling elimination sooner).  ``capped``:
     whether the cap applies (default: from ``CAP_MIN_ENTRIES`` entries or
     ``CAP_MIN_DEGREE`` on).
 
@@ -323,11 +332,11 @@ def _hermite_by_small_elimination(
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, 1, -1]]))
     """
     m, n = M.shape
-    bits = ELIMINATION_BITS if cap_bits is None else cap_bits
+    bits = FULL_ELIMINATION_BITS if full else ELIMINATION_BITS
     if capped is None:
         capped = m * n >= CAP_MIN_ENTRIES or dn.mat_degree(M._r) >= CAP_MIN_DEGREE
     try:
-        got = _echelon_integral(M._r, m, n, bits if capped else None, rows, scaling=cap_bits is not None)
+        got = _echelon_integral(M._r, m, n, bits if capped else None, rows, scaling=full)
     except CoefficientGrowth:
         return None
     if got is not None:

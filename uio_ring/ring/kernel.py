@@ -17,8 +17,8 @@ from __future__ import annotations
 
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
-from uio_ring.ring._kernel_basis import TOEPLITZ_MIN_ROWS, popov_left_kernel
-from uio_ring.ring.hermite import CAP_MIN_DEGREE, hermite
+from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring.hermite import _few_rows_of_high_degree, hermite
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
 __all__ = ["left_kernel", "right_kernel"]
@@ -46,7 +46,7 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
     fast = popov_left_kernel(M._r, m, n)
     if fast is not None:
         return PolyMatrix._new(fast, len(fast), m, M.var)
-    if m < TOEPLITZ_MIN_ROWS and dn.mat_degree(M._r) >= CAP_MIN_DEGREE:
+    if _few_rows_of_high_degree(M):
         h = hermite(M)  # its kernel rows are the Popov basis
         return h.U[h.rank :, :]
     return left_kernel_by_elimination(M)

@@ -29,13 +29,12 @@ from uio_ring.ring._division import reduce_modulo_popov
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
 from uio_ring.ring._kernel_basis import (
-    TOEPLITZ_MIN_ROWS,
     ToeplitzCoefficients,
     popov_left_kernel,
     solve_reduced,
 )
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
-from uio_ring.ring.hermite import CAP_MIN_DEGREE, hermite
+from uio_ring.ring.hermite import _few_rows_of_high_degree, hermite
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
 __all__ = ["solve_left", "solve_right"]
@@ -90,7 +89,7 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         got = solve_reduced(V._r, k, n, kern, W._r, tries=3, coeffs=coeffs) if kern else None
         if got is not None:  # X·V = W checked exactly inside; X reduced modulo the kernel
             return PolyMatrix._new(got, m, k, V.var)
-    if k < TOEPLITZ_MIN_ROWS and dn.mat_degree(V._r) >= CAP_MIN_DEGREE:
+    if _few_rows_of_high_degree(V):
         # few rows of high degree: hermite's elimination gives way to the Toeplitz systems
         # when its remainders swell (a 5×4 of degree 32: 28 → 2 s); its H and U serve the
         # same back substitution (H[:r] = U[:r]·V, U[r:] the Popov kernel)
