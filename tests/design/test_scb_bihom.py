@@ -120,6 +120,21 @@ def test_implicit_chain_solution(q, prof, mu, a, coef):
         assert np.sign(sig) == np.sign(a)
 
 
+def test_chain_root_among_the_subnormals():
+    """A steep profile puts the root of a tiny ``a`` below the smallest subnormal step: Newton's
+    correction rounds to nothing two floats away; the answer is the float the root rounds to."""
+    p0, pi = chain_exponents(3, -0.9, 0.45)
+    c = [1.0, 1.0, 9.0]
+
+    def lhs(s):
+        return s + sum(ck * f for ck, f in zip(c, phi_values(s, p0, pi, 0.5), strict=True))
+
+    sig, _ = solve_bihom_chain(1e-12, c, p0, pi, 0.5)
+    assert sig > 0.0 and lhs(math.nextafter(sig, -math.inf)) <= 1e-12 <= lhs(sig)
+    sig, _ = solve_bihom_chain(-1e-12, c, p0, pi, 0.5)
+    assert sig < 0.0 and lhs(sig) <= -1e-12 <= lhs(math.nextafter(sig, math.inf))
+
+
 # -- design --------------------------------------------------------------------------------------
 def test_dbho_design_gains_and_certificate():
     d = design_scb(paper003(), poles_b=[-8, -6], input_ranges=[[-2, 1], [0, 1]], d_observer="dbho")

@@ -19,6 +19,7 @@ Levant's differentiator.
 from __future__ import annotations
 
 import math
+import sys
 
 __all__ = ["chain_exponents", "phi_values", "phi_values_and_slopes", "solve_bihom_chain"]
 
@@ -119,5 +120,35 @@ def solve_bihom_chain(a: float, coef: list[float], p0: list[float], pinf: list[f
             s = s_new
             break
         s = s_new
+    if s < sys.float_info.min:  # Newton's steps round to nothing among the subnormals: bisect them
+        s = _subnormal_root(lo, hi, lambda z: z - c + sum(k * v for k, v in zip(coef, phi_values(z, p0, pinf, mu),
+                                                                                  strict=True)))
     vals = phi_values(s, p0, pinf, mu)
     return math.copysign(s, a), math.copysign(coef[-1] * vals[-1], a)
+
+
+def _subnormal_root(lo: float, hi: float, f) -> float:
+    """The float nearest the root of the increasing ``f`` in the bracket ``(lo, hi]``
+    (``f(lo) < 0 < f(hi)``, ``hi`` subnormal): bisection down to adjacent floats, then the one
+    with the smaller ``|f|`` — never 0, whose inclusion belongs to the jump test.
+
+    Among the subnormals a float step is ``2^-1074`` whatever the size, so Newton's
+    correction rounds to nothing several floats from the root (a steep ``Φ_q`` near 0).
+
+    >>> _subnormal_root(0.0, 1e-320, lambda z: z - 3e-323)
+    3e-323
+    """
+    while math.nextafter(lo, math.inf) < hi:
+        mid = lo + (hi - lo) / 2.0
+        if mid <= lo or mid >= hi:  # two floats apart: the float between them
+            mid = math.nextafter(lo, math.inf)
+        fm = f(mid)
+        if fm == 0.0:
+            return mid
+        if fm > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    if lo == 0.0 or abs(f(hi)) <= abs(f(lo)):
+        return hi
+    return lo
