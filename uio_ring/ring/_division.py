@@ -127,7 +127,7 @@ class PopovDivisor:
         for jj in range(k):
             s = bk.ZERO
             for i in range(k):
-                if not y[i].is_zero() and not self.adj[i][jj].is_zero():
+                if y[i] and self.adj[i][jj]:
                     s = s + y[i] * self.adj[i][jj]
             qs.append(s // self.det)
         rows = self.basis
@@ -137,11 +137,11 @@ class PopovDivisor:
                   for jj in range(len(rows))]
         support = self.support or tuple(tuple(range(len(new))) for _ in rows)
         for q, brow, cols in zip(qs, rows, support, strict=True):
-            if q.is_zero():
+            if not q:
                 continue
             for c in cols:
                 e = brow[c]
-                if not e.is_zero():
+                if e:
                     new[c] = new[c] - q * e
         return new
 

@@ -177,10 +177,9 @@ def normalise(a: dn.Rows, u: dn.Rows | None, pivots: list[int]) -> None:
         j = pivots[k]
         c = bk.lc(a[k][j])
         if c != 1:
-            inv = bk.const(1) / c
-            a[k] = [x * inv if x else x for x in a[k]]  # zero entries stay (the same zero)
+            dn.row_divide(a, k, c)
             if u is not None:
-                u[k] = [x * inv if x else x for x in u[k]]
+                dn.row_divide(u, k, c)
         for i in range(k + 1, r):
             ji = pivots[i]
             piv = a[i][ji]

@@ -14,7 +14,6 @@ for every complex δ).  *Right unimodular*: the same for the transpose.
 
 from __future__ import annotations
 
-from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
@@ -128,9 +127,9 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         raise AssertionError("a pivot of positive degree, yet every invariant factor constant")  # pragma: no cover
     # a[:n] is upper triangular with constant diagonal: finish to the identity
     for k in range(n - 1, -1, -1):
-        inv = bk.const(1) / a[k][k][0]
-        a[k] = [x * inv for x in a[k]]
-        u[k] = [x * inv for x in u[k]]
+        c = a[k][k][0]
+        dn.row_divide(a, k, c)
+        dn.row_divide(u, k, c)
         for i in range(k):
             q = a[i][k]
             if not q.is_zero():

@@ -222,9 +222,8 @@ def smith_by_elimination(M: PolyMatrix) -> SmithResult:
     for i in range(r):
         c = bk.lc(a[i][i])
         if c != 1:
-            inv = bk.const(1) / c
-            a[i][i] = a[i][i] * inv
-            u[i] = [x * inv for x in u[i]]
+            a[i][i] = a[i][i] / c
+            dn.row_divide(u, i, c)
     reduce_transform(u, r, popov_left_kernel(M._r, m, n) if r < m else None)
     reduce_transform(vt, r, popov_left_kernel(dn.transpose(M._r, m, n), n, m) if r < n else None)
     S = dn.zeros(m, n)
