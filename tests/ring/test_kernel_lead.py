@@ -167,6 +167,36 @@ def test_probe_falls_back_when_the_lead_solve_gives_up(monkeypatch):
     assert popov_left_kernel(M._r, *M.shape, min_rows=0) == want
 
 
+@settings(max_examples=20, deadline=None)
+@given(st.integers(3, 4), st.integers(0, 10**6))
+def test_small_nullity_of_high_degree_takes_the_modular_solve(n, seed):
+    """A tall (n + 2)×n of degree > n: 2 kernel rows (fewer than m/2) and no Schur
+    complement (degree above the columns).  The kernel comes from the rank profile and
+    one certified solve — the fraction-free nullspace is not called (it swelled for
+    56 s on the 600×570 Toeplitz matrix of a 6×4 observability matrix of degree 55) —
+    and equals the elimination's Popov basis."""
+    import random
+
+    rng = random.Random(seed)
+    deg = n + 2
+    M = PolyMatrix([[" + ".join(f"{rng.randint(-3, 3)}*d**{e}" for e in range(deg + 1)) for _ in range(n)]
+                    for _ in range(n + 2)])
+    m = M.rows
+    assert 2 * (m - M.rank()) < m and not worthwhile(n, dn.mat_degree(M._r))
+    original = _kernel_basis._exact_generators
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the fraction-free nullspace was called")
+
+    _kernel_basis._exact_generators = refuse
+    try:
+        K = popov_left_kernel(M._r, m, n, min_rows=0)
+    finally:
+        _kernel_basis._exact_generators = original
+    assert K is not None
+    assert PolyMatrix._new(K, len(K), m, M.var) == left_kernel_by_elimination(M)
+
+
 def test_toeplitz_coefficients_residues():
     M = PolyMatrix("[[-1/2, d/3], [d**2 - 7, 2*d/3]]")
     c = ToeplitzCoefficients.of(M._r, 2, 2)

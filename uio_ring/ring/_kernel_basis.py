@@ -14,12 +14,13 @@ for that order.  So:
 1. V_D is the nullspace of the block-Toeplitz (Sylvester) matrix of the map
    ``(x_0, …, x_D) ↦ coefficients of x·M``.  The generators of its reduced echelon
    basis come from the column rank profile modulo a word prime and one exact square
-   solve, certified exactly (:mod:`uio_ring.ring._kernel_lead`), when the kernel has
-   at least m/2 rows or M has full column rank (then that solve is a Schur complement
-   on the kernel's pivot columns modulo word primes, :mod:`uio_ring.ring._reduced_crt`:
-   Σ d_i unknowns instead of N); otherwise, or when that prime is unlucky, from
-   ``fmpz_mat.nullspace`` and one ``rref`` (python-flint, in C), whose cost grows
-   with the dimension of the nullspace.
+   solve, certified exactly (:mod:`uio_ring.ring._kernel_lead`); when M has full
+   column rank, low degree and fewer than m/2 kernel rows, that solve is a Schur
+   complement on the kernel's pivot columns modulo word primes
+   (:mod:`uio_ring.ring._reduced_crt`: Σ d_i unknowns instead of N).  When that prime
+   is unlucky: from ``fmpz_mat.nullspace`` and one ``rref`` (python-flint, in C),
+   whose fraction-free elimination swells with the size of the entries and with the
+   dimension of the nullspace.
 2. The generators are the basis vectors led by δ^e·e_j with δ^(e−1)·e_j not a
    leading monomial.  There are m − rank M of them iff D ≥ max d_i; the rank is
    exact (:func:`~uio_ring.ring._predicates.rank_raw`), so the count proves
@@ -262,23 +263,25 @@ def popov_left_kernel(
     D = min(-(-bound // k), d_cap)
     while True:
         # Invariant: every d_i ≤ D has its generator in `gens`; the others exceed D.
-        # a nullspace of small dimension: the fraction-free nullspace is cheap (tall
-        # (n+4)×n: 4 kernel rows); a large one (a 216×32 observability matrix: 184
-        # rows) swells it, the modular rank profile and one square solve do not
-        lead = None
-        if 2 * k >= m or (r == n and worthwhile(n, dm)):
-            D_use, pivots = _generator_degree_mod_p(coeffs.residues, m, n, dm, D, k)
-            if 2 * k >= m:
-                lead = generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D_use, None),
-                                                n * (D_use + dm + 1), m * (D_use + 1), m, pivots=pivots)
-            else:  # rank n: the solve as a Schur complement modulo primes (_reduced_crt)
-                lead = generators_by_crt(mi, dm, m, n, D_use, pivots)
-            if lead is not None and D_use < D:
-                if len(lead) == k:
-                    # certified at D' < D: lead_Q = lead_p there, and lead_p has all k generators
-                    D, gens = D_use, lead
-                    break
-                lead = None  # pragma: no cover - as just said
+        # The modular rank profile and one certified square solve, whatever the nullity:
+        # the fraction-free nullspace swells with the size of the entries (the 600×570
+        # Toeplitz matrix of 223-bit entries of a 6×4 observability matrix of degree 55:
+        # 56 s, against 1.5 s; rank-deficient 16×16: 146 → 31 ms) and with the
+        # nullity (a 216×32 observability matrix: 184 rows); it stays the fallback
+        # for an unlucky prime
+        D_use, pivots = _generator_degree_mod_p(coeffs.residues, m, n, dm, D, k)
+        if 2 * k < m and r == n and worthwhile(n, dm):
+            # rank n: the solve as a Schur complement modulo primes (_reduced_crt)
+            lead = generators_by_crt(mi, dm, m, n, D_use, pivots)
+        else:
+            lead = generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D_use, None),
+                                            n * (D_use + dm + 1), m * (D_use + 1), m, pivots=pivots)
+        if lead is not None and D_use < D:
+            if len(lead) == k:
+                # certified at D' < D: lead_Q = lead_p there, and lead_p has all k generators
+                D, gens = D_use, lead
+                break
+            lead = None  # pragma: no cover - as just said
         gens = _exact_generators(mi, m, n, dm, D) if lead is None else lead
         if len(gens) == k:
             break
