@@ -24,6 +24,7 @@ from uio_ring import (
     is_unimodular,
     zheng_bejarano_from_choices,
 )
+from uio_ring.design.zheng_bejarano import smallest_observer_orders
 
 from . import paper001 as P
 
@@ -283,3 +284,67 @@ def test_random_systems_certified_or_refused_for_a_reason(sys):
     from uio_ring.ring import left_inverse
 
     assert des.O_left_inverse == left_inverse(des.O)
+    # the check's preview proves Ō left unimodular by its minors instead of solving: same orders
+    n_z, l_options = smallest_observer_orders(sys)
+    assert n_z == des.n_z and des.l_star in l_options
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_observability_index_proved_by_minors_equals_the_solve(seed):
+    """Random 4-state systems of δ-degree 2 with 3 outputs (the shape where X·Ō = [I; C̄Ā^l]
+    is far larger than the proof): the least l by the minors equals the least l by the solve,
+    and the proof leaves the solve out."""
+    import random
+
+    from uio_ring.design.zheng_bejarano import _candidate_Us, _observability_index, _steps_1_2
+    from uio_ring.ring import hermite
+
+    rng = random.Random(seed)
+
+    def mat(r, c):
+        return [[" + ".join(f"{rng.randint(-3, 3)}*d**{e}" for e in range(3)) for _ in range(c)] for _ in range(r)]
+
+    sys = DelaySystem(mat(4, 4), mat(4, 1), mat(3, 4), [[0]] * 3)
+    if not check_assumptions(sys).holds:
+        pytest.skip("this seed's system has no UIO")  # pragma: no cover - seeds 1–3 have one
+    rho, Us = _candidate_Us(sys)
+    for _, U in Us:
+        s12 = _steps_1_2(sys, U, rho)
+        r = s12.C_tilde.rank()
+        C_bar = hermite(s12.C_tilde).H[0:r, 0:4]
+        proved = _observability_index(s12.A_bar, C_bar, 4, solve=False)
+        solved = _observability_index(s12.A_bar, C_bar, 4)
+        assert proved.l_star == solved.l_star and proved.O == solved.O
+        assert proved.solved is None and solved.solved is not None
+
+
+def test_observability_solve_grows_its_degree_bound_instead_of_eliminating(monkeypatch):
+    """An 8-state system with 7 outputs (δ-degree 2): the reduced solution of
+    X·Ō = [I; C̄Ā^l] (Ō 14×8 of δ-degree 20) has degree 28, beyond the three degree bounds
+    solve_left tries for a system that may have no solution.  Ō is proved left unimodular,
+    so the bounds keep growing (0.6 s); the elimination it used to fall into swelled for
+    100 s.  The elimination is made to fail here: the solve must not reach it."""
+    import random
+
+    import uio_ring.ring.solve as solve_module
+    from uio_ring.design.zheng_bejarano import _candidate_Us, _observability_index, _steps_1_2
+    from uio_ring.ring import hermite
+
+    rng = random.Random(1)
+
+    def mat(r, c):
+        return [[" + ".join(f"{rng.randint(-3, 3)}*d**{e}" for e in range(3)) for _ in range(c)] for _ in range(r)]
+
+    sys = DelaySystem(mat(8, 8), mat(8, 1), mat(7, 8), [[0]] * 7)
+    rho, Us = _candidate_Us(sys)
+    s12 = _steps_1_2(sys, Us[0][1], rho)
+    r = s12.C_tilde.rank()
+    C_bar = hermite(s12.C_tilde).H[0:r, 0:8]
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("solve_left fell back to the elimination")
+
+    monkeypatch.setattr(solve_module, "row_echelon", refuse)
+    index = _observability_index(s12.A_bar, C_bar, 8)
+    assert index is not None and index.O.shape == (14, 8)
+    assert index.solved @ index.O == PolyMatrix.vstack(PolyMatrix.identity(8), index.next_block)

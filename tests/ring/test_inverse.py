@@ -246,3 +246,33 @@ def test_left_inverse_of_a_tall_matrix_that_loses_rank_names_its_invariant_facto
     assert bad and M.rank() == 6
     with pytest.raises(NotUnimodularError, match="not left unimodular: its invariant factor"):
         left_inverse(M)
+
+
+@given(st.one_of(
+    st.integers(1, 5).flatmap(lambda n: unimodular_matrices(n + 2, max_degree=2).map(lambda U: U[:, 0:n])),
+    matrices(min_rows=1, max_rows=6, min_cols=1, max_cols=4),
+))
+def test_left_unimodular_proof_is_sound(M):
+    """A proof by two coprime compressed minors (modulo a prime, or exactly up to 8
+    columns) never contradicts the elimination's decision."""
+    from uio_ring.ring._predicates import left_unimodular_proved
+
+    m, n = M.shape
+    if m < n:
+        return
+    proved = left_unimodular_proved(M._r, m, n)
+    event(f"proved={proved}")
+    if proved:
+        assert is_left_unimodular(M)
+
+
+@pytest.mark.parametrize("text", ["[[1, d**2], [0, 1], [d, d**3 + 1]]", "[[d + 1, d], [d, d - 1], [1, 1]]"])
+def test_left_unimodular_proof_completed_exactly_when_not_column_reduced(text):
+    """Left unimodular but not column reduced: the compressed minor misses its degree bound,
+    so the modular proof says nothing; up to 8 columns the exact minors prove it."""
+    from uio_ring.ring._predicates import coprime_maximal_minors, left_unimodular_proved
+
+    M = PolyMatrix(text)
+    assert is_left_unimodular(M)
+    assert not coprime_maximal_minors(M._r, 3, 2, exact=False)
+    assert left_unimodular_proved(M._r, 3, 2)

@@ -17,7 +17,7 @@ from __future__ import annotations
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
-from uio_ring.ring._predicates import coprime_maximal_minors, is_unimodular_raw, rank_raw
+from uio_ring.ring._predicates import is_unimodular_raw, left_unimodular_proved, rank_raw
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import _hermite_by_small_elimination
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
@@ -73,8 +73,8 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     when it stops: X from
     one square block-Toeplitz system (:func:`~uio_ring.ring._kernel_basis.solve_reduced`,
     checked exactly; two degree bounds, or as many as needed when the maximal minors
-    are proved coprime modulo a prime: two compressed minors,
-    :func:`~uio_ring.ring._predicates.coprime_maximal_minors` with ``exact=False``)
+    are proved coprime: two compressed minors,
+    :func:`~uio_ring.ring._predicates.left_unimodular_proved`)
     and the Popov kernel from one Toeplitz nullspace; otherwise
     Euclidean elimination with a unimodular transform, then Popov division of its
     first n rows by the kernel basis.
@@ -109,7 +109,7 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         K = popov_left_kernel(M._r, m, n, coeffs=coeffs, min_rows=0)
         if K is not None:
             X = solve_reduced(M._r, m, n, K, dn.identity(n), tries=2, coeffs=coeffs)
-            if X is None and coprime_maximal_minors(M._r, m, n, exact=False):
+            if X is None and left_unimodular_proved(M._r, m, n):
                 X = solve_reduced(M._r, m, n, K, dn.identity(n), coeffs=coeffs)
             if X is not None:
                 return PolyMatrix._new(X, n, m, M.var)

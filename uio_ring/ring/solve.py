@@ -33,6 +33,7 @@ from uio_ring.ring._kernel_basis import (
     popov_left_kernel,
     solve_reduced,
 )
+from uio_ring.ring._predicates import left_unimodular_proved
 from uio_ring.ring.errors import DimensionError, NoPolynomialSolutionError
 from uio_ring.ring.hermite import _few_rows_of_high_degree, hermite
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
@@ -87,6 +88,12 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         coeffs = ToeplitzCoefficients.of(V._r, k, n)
         kern = popov_left_kernel(V._r, k, n, coeffs=coeffs)
         got = solve_reduced(V._r, k, n, kern, W._r, tries=3, coeffs=coeffs) if kern else None
+        if got is None and kern and left_unimodular_proved(V._r, k, n):
+            # V is left unimodular: a solution exists, so the degree bounds grow until it
+            # is found, instead of the elimination below, which swells (X·Ō = [I; C̄Ā^l] of
+            # an 8-state observability matrix 14×8 of degree 20 needs D = 28, the fourth
+            # bound: 0.6 s, against 100 s by elimination)
+            got = solve_reduced(V._r, k, n, kern, W._r, coeffs=coeffs)
         if got is not None:  # X·V = W checked exactly inside; X reduced modulo the kernel
             return PolyMatrix._new(got, m, k, V.var)
     if _few_rows_of_high_degree(V):
