@@ -16,7 +16,11 @@ is atomic in CPython, so the printing thread needs no lock.
 
 from __future__ import annotations
 
-__all__ = ["note", "current"]
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
+
+__all__ = ["note", "current", "step", "size_text"]
 
 _NOTE = [""]
 
@@ -29,3 +33,29 @@ def note(text: str) -> None:
 def current() -> str:
     """The note ('' when no long analysis runs)."""
     return _NOTE[0]
+
+
+@contextmanager
+def step(text: str) -> Iterator[None]:
+    """``with step("…"):`` — the note while the block runs, cleared after it (also on error).
+
+    >>> with step("solving"):
+    ...     current()
+    'solving'
+    >>> current()
+    ''
+    """
+    note(text)
+    try:
+        yield
+    finally:
+        note("")
+
+
+def size_text(M: Any) -> str:
+    """``"14×8 of δ-degree 20 with 416-bit coefficients"`` for a PolyMatrix: what makes exact
+    work on it long."""
+    from uio_ring.ring import _backend as bk
+
+    bits = max((bk.bits(p) for row in M._r for p in row), default=0)
+    return f"{M.rows}×{M.cols} of δ-degree {M.degree()} with {bits}-bit coefficients"

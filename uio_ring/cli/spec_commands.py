@@ -206,7 +206,9 @@ def _run_check(args: argparse.Namespace) -> int:
         print(_rule(f"method {name}: {'applicable' if holds else 'NOT applicable'}"))
         print(report if report is not None else reason)
         if holds and METHODS[name].preview is not None:
-            print(METHODS[name].preview(system))
+            with _Heartbeat(f"previewing method {name} ({_size_text(system)}: exact algebra over Q[δ])"):
+                preview = METHODS[name].preview(system)
+            print(preview)
         any_ok = any_ok or holds
     if system.is_delay_free and "scb" in METHODS and "scb" not in [c[0] for c in checked]:
         from uio_ring.analysis.observer_classes import observer_options

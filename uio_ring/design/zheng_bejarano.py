@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from uio_ring.analysis import _progress
 from uio_ring.analysis.assumptions import check_assumptions
 from uio_ring.analysis.rank_condition import matching_matrix
 from uio_ring.analysis.report import AssumptionsReport
@@ -187,7 +188,9 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int, *, solve:
         if not solve and left_unimodular_proved(O._r, *O.shape):
             return _ObservabilityIndex(l, O)  # proved without the solve, which may be large
         try:
-            solved = solve_left(O, PolyMatrix.vstack(_I(n), nxt))
+            with _progress.step(f"Zheng et al. (2015) step 3, l = {l}: solving X·Ō = [I; C̄Ā^l], "
+                                f"Ō {_progress.size_text(O)}"):
+                solved = solve_left(O, PolyMatrix.vstack(_I(n), nxt))
         except NoPolynomialSolutionError:
             continue
         return _ObservabilityIndex(l, O, solved, nxt)
@@ -715,7 +718,9 @@ def _ranked_assemblies(sys: DelaySystem, finalists: list[_Candidate], budget: in
                 for _k in range(l_star):
                     rows.append(rows[-1] @ s12.A_bar)
                 O, CAl = PolyMatrix.vstack(*rows[:l_star]), rows[l_star]
-                both = solve_left(O, PolyMatrix.vstack(_I(n), CAl))
+                with _progress.step(f"Zheng et al. (2015) step 3: solving X·Ō = [I; C̄Ā^l*], "
+                                    f"Ō {_progress.size_text(O)}"):
+                    both = solve_left(O, PolyMatrix.vstack(_I(n), CAl))
             OL, F_reduced = both[0:n, 0 : O.rows], both[n : n + r, 0 : O.rows]
             done: list[tuple[PolyMatrix, PolyMatrix, PolyMatrix]] = []  # (F, T, T_L⁻¹) for this Λ
             for f_label in ("F reduced modulo the left kernel of Ō", "F by (16) with the reduced left inverse of Ō"):
@@ -727,7 +732,9 @@ def _ranked_assemblies(sys: DelaySystem, finalists: list[_Candidate], budget: in
                 same = next((t for t in done if t[0] == F), None)
                 if same is None:
                     T = _normal_form_T(s12.A_bar, C_bar, F, l_star)
-                    same = (F, T, _reduced_left_inverse(T))
+                    with _progress.step(f"Zheng et al. (2015): the left inverse of T of (15), "
+                                        f"{_progress.size_text(T)}"):
+                        same = (F, T, _reduced_left_inverse(T))
                     done.append(same)
                 _, T, TL = same
                 key = (max(0, TL.degree()), T.degree(), F.degree())
