@@ -150,7 +150,7 @@ def test_check_previews_the_design_and_names_other_methods(tmp_path, capsys):
     assert "method normal-form applies to this system (needs the option(s) input_bounds)" in out
 
 
-def test_long_checks_say_what_is_taking_long(tmp_path, capsys, monkeypatch):
+def test_long_checks_say_what_is_taking_long(tmp_path, capfd, monkeypatch):
     """Exact algebra on large, high-degree systems can take minutes: a line on stderr every
     HEARTBEAT_SECONDS says what runs (here shortened, and the check slowed down: a 4×4,
     δ-degree-4 check now takes well under a second)."""
@@ -177,5 +177,30 @@ def test_long_checks_say_what_is_taking_long(tmp_path, capsys, monkeypatch):
     spec = tmp_path / "big.yaml"
     spec.write_text(f"system:\n  A: {mat(4, 4)}\n  B: {mat(4, 2)}\n  C: {mat(3, 4)}\n  h: 0.1\n")
     main(["check", str(spec)])
-    err = capsys.readouterr().err
+    err = capfd.readouterr().err  # the lines come from a child process: captured at the fd
     assert "uio-ring: still checking method zheng-bejarano (4 states, δ-degree 4" in err and "Ctrl-C stops" in err
+
+
+def test_heartbeat_keeps_beating_while_one_call_holds_the_interpreter(capfd, monkeypatch):
+    """One call into C (FLINT's solves can take minutes) holds the interpreter, so no thread
+    of this process can print; the heartbeat's lines come from a forked child, with the
+    latest progress note.  Here ``sum(range(N))`` holds it for about a second."""
+    import time
+
+    import uio_ring.cli.spec_commands as sc
+    from uio_ring.analysis import _progress
+
+    monkeypatch.setattr(sc, "HEARTBEAT_SECONDS", 0.05)
+    with sc._Heartbeat("testing the heartbeat"):
+        with _progress.step("step 7: a long call"):
+            start = time.monotonic()
+            sum(range(10**7))  # calibrate: one pass of C without a switch of threads
+            reps = max(1, int(1.0 / max(time.monotonic() - start, 1e-3)))
+            start = time.monotonic()
+            sum(range(10**7 * reps))
+            held = time.monotonic() - start
+    err = capfd.readouterr().err
+    lines = [x for x in err.splitlines()
+             if x.startswith("uio-ring: still testing the heartbeat") and x.endswith("— step 7: a long call")]
+    assert held > 0.5 and len(lines) >= 3, (held, err)
+    assert _progress.current() == ""

@@ -16,18 +16,28 @@ is atomic in CPython, so the printing thread needs no lock.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["note", "current", "step", "size_text"]
+__all__ = ["note", "current", "set_sink", "step", "size_text"]
 
 _NOTE = [""]
+_SINK: list[Callable[[str], None] | None] = [None]
 
 
 def note(text: str) -> None:
-    """Replace the note (``""`` clears it)."""
+    """Replace the note (``""`` clears it); a sink set by :func:`set_sink` gets it too."""
     _NOTE[0] = text
+    sink = _SINK[0]
+    if sink is not None:
+        sink(text)
+
+
+def set_sink(sink: Callable[[str], None] | None) -> None:
+    """Also hand every new note to ``sink`` (None: no longer) — the CLI's heartbeat process,
+    which cannot read this module's memory."""
+    _SINK[0] = sink
 
 
 def current() -> str:

@@ -148,31 +148,110 @@ HEARTBEAT_SECONDS = 10.0
 class _Heartbeat:
     """``with _Heartbeat("checking …"):`` — a line on stderr every :data:`HEARTBEAT_SECONDS`
     while the block runs, saying what is taking long (exact algebra on large, high-degree
-    systems can take minutes; Ctrl-C stops it cleanly)."""
+    systems can take minutes; Ctrl-C stops it cleanly) and the analysis' current step
+    (:mod:`uio_ring.analysis._progress`).
+
+    The lines come from a forked child process that the block's notes reach through a
+    pipe: one call into FLINT can hold the interpreter for minutes (a Dixon solve of a
+    434-unknown system with 31-kbit solutions), and a thread of this process could not
+    print then.  The child ignores Ctrl-C (the parent handles it) and ends when the pipe
+    closes: at the end of the block, or when the parent dies.  Without ``os.fork``
+    (Windows), a thread prints instead.  Cost: one fork per block (≈ 6 ms)."""
 
     def __init__(self, what: str):
+        self.what = what
+        self._pid = 0
+        self._pipe = -1
+        self._thread: Any = None
+
+    def __enter__(self) -> _Heartbeat:
+        import os
+
+        from uio_ring.analysis import _progress
+
+        if not hasattr(os, "fork"):  # pragma: no cover - Windows
+            self._start_thread()
+            return self
+        sys.stderr.flush()
+        read, write = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: print until the pipe closes, then leave without cleanup
+            try:
+                os.close(write)
+                _beat(read, self.what, HEARTBEAT_SECONDS, _progress.current())
+            finally:
+                os._exit(0)
+        os.close(read)
+        self._pid, self._pipe = pid, write
+        _progress.set_sink(self._send)
+        return self
+
+    def _send(self, text: str) -> None:
+        import os
+
+        try:
+            os.write(self._pipe, " ".join(text.split()).encode()[:1000] + b"\n")
+        except OSError:  # the child is gone: nothing to tell
+            pass
+
+    def _start_thread(self) -> None:  # pragma: no cover - Windows
         import threading
-
-        self.what, self._stop = what, threading.Event()
-        self._thread = threading.Thread(target=self._run, daemon=True)
-
-    def _run(self) -> None:
         import time
 
         from uio_ring.analysis._progress import current
 
-        t0 = time.monotonic()
-        while not self._stop.wait(HEARTBEAT_SECONDS):
-            now = current()
-            print(f"uio-ring: still {self.what} ({time.monotonic() - t0:.0f} s; Ctrl-C stops)"
-                  + (f" — {now}" if now else ""), file=sys.stderr, flush=True)
+        stop = threading.Event()
 
-    def __enter__(self) -> _Heartbeat:
-        self._thread.start()
-        return self
+        def run() -> None:
+            t0 = time.monotonic()
+            while not stop.wait(HEARTBEAT_SECONDS):
+                print(_beat_line(self.what, time.monotonic() - t0, current()), file=sys.stderr, flush=True)
+
+        self._thread = (threading.Thread(target=run, daemon=True), stop)
+        self._thread[0].start()
 
     def __exit__(self, *exc: object) -> None:
-        self._stop.set()
+        import os
+
+        from uio_ring.analysis import _progress
+
+        if self._thread is not None:  # pragma: no cover - Windows
+            self._thread[1].set()
+            return
+        _progress.set_sink(None)
+        os.close(self._pipe)
+        os.waitpid(self._pid, 0)
+
+
+def _beat_line(what: str, seconds: float, note: str) -> str:
+    return f"uio-ring: still {what} ({seconds:.0f} s; Ctrl-C stops)" + (f" — {note}" if note else "")
+
+
+def _beat(pipe: int, what: str, period: float, note: str) -> None:
+    """The heartbeat child: a line every ``period`` seconds with the latest note read from
+    ``pipe`` (one per line), until the pipe closes."""
+    import os
+    import select
+    import signal
+    import time
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    t0 = time.monotonic()
+    due = t0 + period
+    pending = b""
+    while True:
+        ready, _, _ = select.select([pipe], [], [], max(due - time.monotonic(), 0.0))
+        if ready:
+            data = os.read(pipe, 65536)
+            if not data:
+                return
+            *lines, pending = (pending + data).split(b"\n")
+            if lines:
+                note = lines[-1].decode(errors="replace")
+            continue
+        now = time.monotonic()
+        os.write(2, (_beat_line(what, now - t0, note) + "\n").encode())
+        due = now + period
 
 
 def _size_text(system: Any) -> str:
@@ -205,9 +284,10 @@ def _run_check(args: argparse.Namespace) -> int:
     for name, holds, report, reason in checked:
         print(_rule(f"method {name}: {'applicable' if holds else 'NOT applicable'}"))
         print(report if report is not None else reason)
-        if holds and METHODS[name].preview is not None:
+        show = METHODS[name].preview
+        if holds and show is not None:
             with _Heartbeat(f"previewing method {name} ({_size_text(system)}: exact algebra over Q[δ])"):
-                preview = METHODS[name].preview(system)
+                preview = show(system)
             print(preview)
         any_ok = any_ok or holds
     if system.is_delay_free and "scb" in METHODS and "scb" not in [c[0] for c in checked]:
