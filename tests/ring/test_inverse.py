@@ -253,8 +253,8 @@ def test_left_inverse_of_a_tall_matrix_that_loses_rank_names_its_invariant_facto
     matrices(min_rows=1, max_rows=6, min_cols=1, max_cols=4),
 ))
 def test_left_unimodular_proof_is_sound(M):
-    """A proof by two coprime compressed minors (modulo a prime, or exactly up to 8
-    columns) never contradicts the elimination's decision."""
+    """A proof by two coprime compressed minors (modulo a prime, or exactly when they are
+    cheap) never contradicts the elimination's decision."""
     from uio_ring.ring._predicates import left_unimodular_proved
 
     m, n = M.shape
@@ -269,10 +269,21 @@ def test_left_unimodular_proof_is_sound(M):
 @pytest.mark.parametrize("text", ["[[1, d**2], [0, 1], [d, d**3 + 1]]", "[[d + 1, d], [d, d - 1], [1, 1]]"])
 def test_left_unimodular_proof_completed_exactly_when_not_column_reduced(text):
     """Left unimodular but not column reduced: the compressed minor misses its degree bound,
-    so the modular proof says nothing; up to 8 columns the exact minors prove it."""
+    so the modular proof says nothing; the exact minors, cheap on so small a matrix, prove it."""
+    from uio_ring.ring import _predicates
     from uio_ring.ring._predicates import coprime_maximal_minors, left_unimodular_proved
 
     M = PolyMatrix(text)
     assert is_left_unimodular(M)
     assert not coprime_maximal_minors(M._r, 3, 2, exact=False)
     assert left_unimodular_proved(M._r, 3, 2)
+    budget = _predicates.EXACT_MINORS_BUDGET
+    try:  # over the budget of the exact minors: the modular proof alone, which says nothing
+        _predicates.EXACT_MINORS_BUDGET = 0
+        assert not left_unimodular_proved(M._r, 3, 2)
+        # a column-reduced one is still proved modulo p, unless only the cheap proof is asked
+        R = PolyMatrix("[[1, 0], [d, 1], [0, d]]")
+        assert left_unimodular_proved(R._r, 3, 2)
+        assert not left_unimodular_proved(R._r, 3, 2, cheap_only=True)
+    finally:
+        _predicates.EXACT_MINORS_BUDGET = budget

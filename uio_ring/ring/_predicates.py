@@ -173,23 +173,33 @@ def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True) ->
     return not dets[0].is_zero() and bk.gcd(dets[0], dets[1]).is_one()
 
 
-#: Up to this many columns a failed modular proof of :func:`left_unimodular_proved` is
-#: completed by the exact compressed minors, which cost milliseconds there whatever the
-#: degree (Bareiss over Z[δ]: an 8×4 of degree 71 with 1121-bit coefficients 37 ms, a
-#: 14×8 of degree 20 46 ms — where the modular proof fails because M is not column
-#: reduced); at 216×32 they took 84 s.
-EXACT_MINORS_MAX_COLUMNS = 8
+#: The largest n⁵·deg·bits (an estimate of Bareiss' work on the two compressed n×n minors of an
+#: m×n matrix of that δ-degree and coefficient size) for which a failed modular proof of
+#: :func:`left_unimodular_proved` is completed by the exact minors.  The modular proof
+#: fails on matrices that are not column reduced (the observability matrices Ō of a
+#: design), and the solve the callers fall back to can cost far more than these minors
+#: there: 8×4 of degree 71 with 1121 bits, 8·10⁷, 37 ms (the solve: 7 s); 14×8 of degree
+#: 20 with 416 bits, 3·10⁸, 46 ms; 24×12 of degree 33 with 1853 bits, 1.5·10¹⁰, 5.1 s
+#: (the solve: 77 s) — while at 216×32 of degree 23 with 2598 bits, 2·10¹², the minors
+#: take 84 s and the solve 2 s.
+EXACT_MINORS_BUDGET = 2 * 10**10
 
 
-def left_unimodular_proved(a: dn.Rows, m: int, n: int) -> bool:
+def left_unimodular_proved(a: dn.Rows, m: int, n: int, *, cheap_only: bool = False) -> bool:
     """True only when the m×n rows ``a`` (m ≥ n ≥ 1) are proved left unimodular by two
     coprime compressed maximal minors (:func:`coprime_maximal_minors`): modulo a prime,
-    and exactly when that is inconclusive and n ≤ ``EXACT_MINORS_MAX_COLUMNS``.  False
-    proves nothing.
+    and exactly when that is inconclusive and the exact minors are cheap
+    (``EXACT_MINORS_BUDGET``).  ``cheap_only``: False at once when they are not (for a
+    caller whose other way is usually cheaper then: the modular attempt alone costs 1.2 s
+    at 216×32).  False proves nothing.
 
     >>> from uio_ring.ring import _backend as bk
     >>> d = bk.from_coeffs([0, 1])
     >>> left_unimodular_proved([[d, bk.ONE], [bk.ONE, bk.ZERO], [d, d]], 3, 2)
     True
     """
-    return coprime_maximal_minors(a, m, n, exact=n <= EXACT_MINORS_MAX_COLUMNS)
+    work = n**5 * max(dn.mat_degree(a), 1) * max((bk.bits(p) for r in a for p in r if p), default=1)
+    cheap = work <= EXACT_MINORS_BUDGET
+    if cheap_only and not cheap:
+        return False
+    return coprime_maximal_minors(a, m, n, exact=cheap)
