@@ -19,7 +19,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import select
+import signal
 import sys
+import time
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -165,8 +169,6 @@ class _Heartbeat:
         self._thread: Any = None
 
     def __enter__(self) -> _Heartbeat:
-        import os
-
         from uio_ring.analysis import _progress
 
         if not hasattr(os, "fork"):  # pragma: no cover - Windows
@@ -187,8 +189,6 @@ class _Heartbeat:
         return self
 
     def _send(self, text: str) -> None:
-        import os
-
         try:
             os.write(self._pipe, " ".join(text.split()).encode()[:1000] + b"\n")
         except OSError:  # the child is gone: nothing to tell
@@ -196,7 +196,6 @@ class _Heartbeat:
 
     def _start_thread(self) -> None:  # pragma: no cover - Windows
         import threading
-        import time
 
         from uio_ring.analysis._progress import current
 
@@ -211,8 +210,6 @@ class _Heartbeat:
         self._thread[0].start()
 
     def __exit__(self, *exc: object) -> None:
-        import os
-
         from uio_ring.analysis import _progress
 
         if self._thread is not None:  # pragma: no cover - Windows
@@ -220,6 +217,9 @@ class _Heartbeat:
             return
         _progress.set_sink(None)
         os.close(self._pipe)
+        # the child has nothing to finish: stopped at once, so that no state it may have
+        # inherited from another thread (a lock held at the fork) can keep us waiting
+        os.kill(self._pid, signal.SIGKILL)
         os.waitpid(self._pid, 0)
 
 
@@ -229,12 +229,8 @@ def _beat_line(what: str, seconds: float, note: str) -> str:
 
 def _beat(pipe: int, what: str, period: float, note: str) -> None:
     """The heartbeat child: a line every ``period`` seconds with the latest note read from
-    ``pipe`` (one per line), until the pipe closes."""
-    import os
-    import select
-    import signal
-    import time
-
+    ``pipe`` (one per line), until the pipe closes (the modules it uses are imported by the
+    parent: an import in a forked child could wait on a lock another thread held)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     t0 = time.monotonic()
     due = t0 + period
