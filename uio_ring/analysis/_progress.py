@@ -65,7 +65,6 @@ def step(text: str) -> Iterator[None]:
 def size_text(M: Any) -> str:
     """``"14×8 of δ-degree 20 with 416-bit coefficients"`` for a PolyMatrix: what makes exact
     work on it long."""
-    from uio_ring.ring import _backend as bk
+    from uio_ring.ring._echelon import max_bits
 
-    bits = max((bk.bits(p) for row in M._r for p in row), default=0)
-    return f"{M.rows}×{M.cols} of δ-degree {M.degree()} with {bits}-bit coefficients"
+    return f"{M.rows}×{M.cols} of δ-degree {M.degree()} with {max_bits(M._r)}-bit coefficients"

@@ -158,8 +158,8 @@ class _Heartbeat:
     The lines come from a forked child process that the block's notes reach through a
     pipe: one call into FLINT can hold the interpreter for minutes (a Dixon solve of a
     434-unknown system with 31-kbit solutions), and a thread of this process could not
-    print then.  The child ignores Ctrl-C (the parent handles it) and ends when the pipe
-    closes: at the end of the block, or when the parent dies.  Without ``os.fork``
+    print then.  The child ignores Ctrl-C (the parent handles it); it is killed at the end
+    of the block and ends by itself when the parent dies (the pipe closes).  Without ``os.fork``
     (Windows), a thread prints instead.  Cost: one fork per block (≈ 6 ms)."""
 
     def __init__(self, what: str):

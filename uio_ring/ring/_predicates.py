@@ -33,6 +33,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring import _fraction_free as ff
+from uio_ring.ring._echelon import max_bits
 from uio_ring.ring._modular import coprime_dets_mod_p
 
 __all__ = [
@@ -199,7 +200,7 @@ def left_unimodular_proved(a: dn.Rows, m: int, n: int, *, cheap_only: bool = Fal
     >>> left_unimodular_proved([[d, bk.ONE], [bk.ONE, bk.ZERO], [d, d]], 3, 2)
     True
     """
-    work = n**5 * max(dn.mat_degree(a), 1) * max((bk.bits(p) for r in a for p in r if p), default=1)
+    work = n**5 * max(dn.mat_degree(a), 1) * max(max_bits(a), 1)
     cheap = work <= EXACT_MINORS_BUDGET
     if cheap_only and not cheap:
         return False

@@ -287,6 +287,8 @@ def _few_rows_of_high_degree(M: PolyMatrix) -> bool:
     through :func:`hermite` instead, whose capped elimination gives way to the Toeplitz
     systems."""
     return M.rows < TOEPLITZ_MIN_ROWS and dn.mat_degree(M._r) >= CAP_MIN_DEGREE
+
+
 #: The cap of the same elimination when the Toeplitz path would need an elimination
 #: for H anyway (H ≠ [I; 0]): a guard against runaway growth only.
 FULL_ELIMINATION_BITS = 1 << 14
