@@ -110,6 +110,28 @@ def test_extend_row_basis_keeps_the_module(B0, X):
     assert all(ext.rows[i, :].degree() <= X.degree() for i in range(ext.rows.rows))
 
 
+def test_extend_row_basis_of_the_whole_module_is_the_identity(monkeypatch):
+    # rows whose module is Q[δ]^n (coprime maximal minors) give the basis I directly: the
+    # Mulders–Storjohann sequence there can swell by hundreds of bits a step (an 8-state spec
+    # with 8 outputs at δ-degree 16: a 12×8 of 2.6-kbit rows, minutes; the proof takes 12 ms)
+    from uio_ring.ring import _dense as dn
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("weak_popov called on a module proved to be Q[δ]^n")
+
+    B = PolyMatrix("[[d**2 + 1, d], [0, d**2 - 3]]")  # weak Popov, det of degree 4
+    X = PolyMatrix("[[1, 2*d + 5]]")
+    assert _module(PolyMatrix.vstack(B, X)) == PolyMatrix.identity(2)
+    monkeypatch.setattr(dn, "weak_popov", refuse)
+    ext = extend_row_basis(B, X)
+    # a proper submodule still goes through the reduction
+    with pytest.raises(AssertionError, match="weak_popov called"):
+        extend_row_basis(B, PolyMatrix("[[d**3 + d, d**2]]"))  # δ·(row 1 of B)
+    monkeypatch.undo()
+    assert ext.basis == PolyMatrix.identity(2)
+    assert _module(PolyMatrix.vstack(B, ext.rows)) == PolyMatrix.identity(2)
+
+
 def _reduce_rationally(x: list[flint.fmpq_poly], lead: dict[int, list[flint.fmpq_poly]]) -> list[flint.fmpq_poly]:
     """Oracle: the plain one-term reduction over Q, then the primitive integer row
     ([] for zero) — what ``row_basis._reduce_row`` computes fraction-free."""
