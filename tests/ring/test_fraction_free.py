@@ -27,6 +27,14 @@ def _det_by_evaluation(M: PolyMatrix):
     return ev.interpolate(xs, [ev.evaluate(coeffs, x).det() for x in xs])
 
 
+@given(dense_matrices(min_rows=1, max_rows=4, min_cols=1, max_cols=4), st.integers(-40, 40))
+def test_evaluation_over_z_is_exact(M, x):
+    # coefficient_mats scales to integers over one common denominator and evaluate
+    # divides once: the value must be M(x) exactly, entry by entry
+    value = ev.evaluate(ev.coefficient_mats(M._r, *M.shape), x)
+    assert value.tolist() == [[bk.evaluate(p, flint.fmpq(x)) for p in row] for row in M._r]
+
+
 @given(square_matrices(min_n=1, max_n=5))
 def test_bareiss_equals_evaluation(M):
     assert ff.det_fraction_free(M._r, M.rows) == _det_by_evaluation(M)

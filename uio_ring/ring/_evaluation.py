@@ -9,6 +9,7 @@ proven degree bound, never from a random guess.
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
 
 import flint
 
@@ -16,6 +17,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 
 __all__ = [
+    "Coefficients",
     "coefficient_mats",
     "points",
     "first_points",
@@ -26,13 +28,29 @@ __all__ = [
 ]
 
 
-def coefficient_mats(a: dn.Rows, m: int, n: int) -> list[flint.fmpq_mat]:
-    """``[A0, A1, …]`` as flint rational matrices (``[0]`` for a zero matrix)."""
+@dataclass(frozen=True)
+class Coefficients:
+    """A polynomial matrix M as integer coefficient matrices over one common denominator:
+    ``M = (Z_0 + Z_1 δ + …) / den`` (:func:`coefficient_mats`).
+
+    Horner's rule then runs over Z (flint ``fmpz_mat``) and divides once at the end:
+    over Q every step normalised a fraction per entry — 50× slower on a 16×8 of
+    δ-degree 103 with 4.2-kbit coefficients (13 s against 0.25 s at 168 points)."""
+
+    mats: list[flint.fmpz_mat]
+    den: flint.fmpz
+
+
+def coefficient_mats(a: dn.Rows, m: int, n: int) -> Coefficients:
+    """The integer coefficient matrices of the m×n rows ``a`` (:class:`Coefficients`;
+    one zero matrix for a zero matrix)."""
     deg = max(dn.mat_degree(a), 0)
-    out = []
-    for e in range(deg + 1):
-        out.append(flint.fmpq_mat(m, n, [p[e] for r in a for p in r]))
-    return out
+    pairs = [flint.fmpq_mat(m, n, [p[e] for r in a for p in r]).numer_denom() for e in range(deg + 1)]
+    den = flint.fmpz(1)
+    for _, d in pairs:
+        if d != 1:
+            den = den * d // den.gcd(d)
+    return Coefficients([z if d == den else z * (den // d) for z, d in pairs], den)
 
 
 def points() -> Iterator[int]:
@@ -123,13 +141,15 @@ def _vandermonde_inverse(xs: Sequence[int]) -> flint.fmpq_mat:
 _FEW_COLUMNS = 8
 
 
-def evaluate(coeffs: Sequence[flint.fmpq_mat], x: int) -> flint.fmpq_mat:
-    """``Σ coeffs[e]·x^e`` by Horner's rule (in C)."""
-    acc = coeffs[-1]
-    fx = flint.fmpq(x)
-    for c in reversed(coeffs[:-1]):
-        acc = acc * fx + c
-    return acc
+def evaluate(coeffs: Coefficients, x: int) -> flint.fmpq_mat:
+    """``M(x)`` exactly: ``Σ Z_e·x^e`` by Horner's rule over Z (in C), divided by ``den``
+    (:class:`Coefficients`)."""
+    mats = coeffs.mats
+    acc = mats[-1]
+    for c in reversed(mats[:-1]):
+        acc = acc * x + c
+    out = flint.fmpq_mat(acc)
+    return out if coeffs.den == 1 else out / coeffs.den
 
 
 def interpolate(xs: Sequence[int], ys: Sequence[flint.fmpq]) -> flint.fmpq_poly:

@@ -110,9 +110,9 @@ def _compressed_minor(a: dn.Rows, n: int, k: int, seed: int) -> flint.fmpq_poly:
     import random
 
     rng = random.Random(seed)  # fixed seed: the result depends only on M
-    P = flint.fmpq_mat(k, n, [rng.randint(-9, 9) for _ in range(k * n)])
-    Q = flint.fmpq_mat(n, k, [rng.randint(-9, 9) for _ in range(n * k)])
-    coeffs = [P * c * Q for c in ev.coefficient_mats(a, n, n)]
+    P = [[bk.const(rng.randint(-9, 9)) for _ in range(n)] for _ in range(k)]
+    Q = [[bk.const(rng.randint(-9, 9)) for _ in range(k)] for _ in range(n)]
+    coeffs = ev.coefficient_mats(dn.matmul(dn.matmul(P, a, k, n, n), Q, k, n, k), k, k)
     count = k * max(dn.mat_degree(a), 0) + 1
     ys = [ev.evaluate(coeffs, x).det() for x in ev.first_points(count)]
     return ev.interpolate_columns(flint.fmpq_mat(count, 1, ys))[0]
@@ -206,7 +206,7 @@ def generic_solve_left(v: dn.Rows, w: dn.Rows, n: int, m: int) -> dn.Rows | None
     count = max(dbound, ybound) + 1
     xs = ev.first_points(count)
     vc = ev.coefficient_mats(v, n, n)
-    wc = ev.coefficient_mats(w, m, n) if m else []
+    wc = ev.coefficient_mats(w, m, n) if m else None
     dets: list[flint.fmpq] = []
     ys: list[list[flint.fmpq] | None] = []
     for x in xs:
@@ -216,7 +216,7 @@ def generic_solve_left(v: dn.Rows, w: dn.Rows, n: int, m: int) -> dn.Rows | None
         if dx == 0:
             ys.append(None)
             continue
-        if m:
+        if wc is not None:
             wx = ev.evaluate(wc, x)
             # X(x) V(x) = W(x)  <=>  V(x)^T X(x)^T = W(x)^T
             sol = vx.transpose().solve(wx.transpose()).transpose()
@@ -233,10 +233,10 @@ def generic_solve_left(v: dn.Rows, w: dn.Rows, n: int, m: int) -> dn.Rows | None
 
 
 def _solve_by_points_avoiding_roots(
-    vc: list[flint.fmpq_mat], wc: list[flint.fmpq_mat], n: int, m: int, det: flint.fmpq_poly, ybound: int
+    vc: ev.Coefficients, wc: ev.Coefficients | None, n: int, m: int, det: flint.fmpq_poly, ybound: int
 ) -> dn.Rows:
     """Like :func:`generic_solve_left`, sampling only points where V(x) is nonsingular."""
-    if not m:  # no rows to solve for (W has none)
+    if wc is None:  # no rows to solve for (W has none)
         return []
     xs: list[int] = []
     ys: list[list[flint.fmpq]] = []
