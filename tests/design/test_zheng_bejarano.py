@@ -318,6 +318,33 @@ def test_observability_index_proved_by_minors_equals_the_solve(seed):
         assert proved.solved is None and solved.solved is not None
 
 
+@pytest.mark.parametrize("solve", [True, False])
+def test_observability_index_skips_a_square_obar_whose_det_is_not_constant(monkeypatch, solve):
+    """Ō_1 = C̄ = diag(1, δ + 1) is square with det of degree 1 (modulo a prime too): it has
+    no inverse, so neither the solve nor the minors run on it (an 8-state system with 8
+    outputs at δ-degree 8: an 8×8 Ō of degree 64, 18 s of solve to learn it); Ō_2 is left
+    unimodular."""
+    import uio_ring.design.zheng_bejarano as zb
+
+    shapes = []
+    solve_left, proved = zb.solve_left, zb.left_unimodular_proved
+
+    def spy_solve(V, W):
+        shapes.append(V.shape)
+        return solve_left(V, W)
+
+    def spy_proof(a, m, n, **kw):
+        shapes.append((m, n))
+        return proved(a, m, n, **kw)
+
+    monkeypatch.setattr(zb, "solve_left", spy_solve)
+    monkeypatch.setattr(zb, "left_unimodular_proved", spy_proof)
+    index = zb._observability_index(PolyMatrix("[[0, 1], [1, 0]]"), PolyMatrix("[[1, 0], [0, d + 1]]"), 2,
+                                    solve=solve)
+    assert index.l_star == 2 and index.O.shape == (4, 2)
+    assert shapes and all(s == (4, 2) for s in shapes)
+
+
 def test_observability_solve_grows_its_degree_bound_instead_of_eliminating(monkeypatch):
     """An 8-state system with 7 outputs (δ-degree 2): the reduced solution of
     X·Ō = [I; C̄Ā^l] (Ō 14×8 of δ-degree 20) has degree 28, beyond the three degree bounds

@@ -266,6 +266,21 @@ def test_left_unimodular_proof_is_sound(M):
         assert is_left_unimodular(M)
 
 
+@given(st.integers(1, 4).flatmap(lambda n: st.one_of(unimodular_matrices(n, max_degree=2),
+                                                     matrices(min_rows=n, max_rows=n, min_cols=n, max_cols=n))))
+def test_square_minors_decide_by_the_determinant(M):
+    """Square M: the compressed minors are det M times constants, so the proof is exactly
+    'det M is a nonzero constant'; det modulo a prime of positive degree proves the opposite."""
+    from uio_ring.ring._predicates import coprime_maximal_minors, det_not_constant_mod_p
+
+    n = M.rows
+    unimodular = is_unimodular(M)
+    assert coprime_maximal_minors(M._r, n, n) == unimodular
+    assert not coprime_maximal_minors(M._r, n, n, exact=False)
+    if det_not_constant_mod_p(M._r, n):
+        assert M.det().degree() > 0 and not unimodular
+
+
 @pytest.mark.parametrize("text", ["[[1, d**2], [0, 1], [d, d**3 + 1]]", "[[d + 1, d], [d, d - 1], [1, 1]]"])
 def test_left_unimodular_proof_completed_exactly_when_not_column_reduced(text):
     """Left unimodular but not column reduced: the compressed minor misses its degree bound,

@@ -33,7 +33,7 @@ from uio_ring.analysis.rank_condition import matching_matrix
 from uio_ring.analysis.report import AssumptionsReport
 from uio_ring.design.delay_uio_design import DelayUIODesign
 from uio_ring.errors import DimensionError, DomainError, NotObservableError, UioRingError
-from uio_ring.ring._predicates import left_unimodular_proved
+from uio_ring.ring._predicates import det_not_constant_mod_p, left_unimodular_proved
 from uio_ring.ring.errors import NoPolynomialSolutionError
 from uio_ring.ring.hermite import hermite
 from uio_ring.ring.inverse import is_unimodular, left_inverse
@@ -162,7 +162,10 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int, *, solve:
     (:func:`~uio_ring.ring._predicates.left_unimodular_proved`), and the solve runs only
     when they do not: X can be far larger than the proof (a 4-state system of δ-degree
     8 with 4 outputs: X of 31-kbit coefficients, 7 s, against 37 ms for the minors; a
-    12-state one with 12 outputs: 77 s against 5 s).
+    12-state one with 12 outputs: 77 s against 5 s).  A square ``Ō`` whose determinant
+    has positive degree modulo a prime has no inverse: it is skipped without the solve,
+    which would fail only after its work (an 8-state system with 8 outputs at δ-degree 8:
+    Ō 8×8 of degree 64, 18 s).
     """
     r = C_bar.rows
     if r == 0:
@@ -186,6 +189,8 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int, *, solve:
         # reduced solution the design needs anyway is the test (one elimination, not two);
         # C̄ Ā^l, the right side of (16), is solved for in the same pass
         nxt = last @ A_bar
+        if O.rows == n and det_not_constant_mod_p(O._r, n):
+            continue  # a square Ō whose det has positive degree (mod p): no inverse, no solve
         if not solve and left_unimodular_proved(O._r, *O.shape, cheap_only=True):
             return _ObservabilityIndex(l, O)  # proved without the solve, which may be large
         try:

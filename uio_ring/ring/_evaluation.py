@@ -22,6 +22,7 @@ __all__ = [
     "points",
     "first_points",
     "evaluate",
+    "det_at",
     "interpolate",
     "interpolate_columns",
     "minor_degree_bound",
@@ -150,6 +151,17 @@ def evaluate(coeffs: Coefficients, x: int) -> flint.fmpq_mat:
         acc = acc * x + c
     out = flint.fmpq_mat(acc)
     return out if coeffs.den == 1 else out / coeffs.den
+
+
+def det_at(coeffs: Coefficients, x: int) -> flint.fmpq:
+    """``det M(x)`` for a square M: the integer determinant of ``Σ Z_e·x^e`` (flint
+    ``fmpz_mat``) over ``den^n`` — no rational matrix is built."""
+    mats = coeffs.mats
+    acc = mats[-1]
+    for c in reversed(mats[:-1]):
+        acc = acc * x + c
+    det = flint.fmpq(acc.det())
+    return det if coeffs.den == 1 else det / coeffs.den ** acc.nrows()
 
 
 def interpolate(xs: Sequence[int], ys: Sequence[flint.fmpq]) -> flint.fmpq_poly:

@@ -61,16 +61,29 @@ MAX_MINORS = 64
 
 def prefer_fraction_free(a: dn.Rows, n: int) -> bool:
     """True when Bareiss over Z[δ] is expected to beat evaluation for an n-column matrix:
-    n ≤ 8, or entries of degree ≥ n/2.
+    n ≤ 8, or entries of degree ≥ n/2 — unless the coefficients are large,
+    ``n·bits ≥ max(64·deg, 2048)``, where each evaluation point costs one integer
+    determinant (:func:`~uio_ring.ring._evaluation.det_at`) and Bareiss' products swell.
 
     Measured (one core, random integer entries in [−3, 3]; seconds Bareiss / evaluation):
     degree 2 — n = 8: 0.0003 / 0.0005, n = 16: 0.0036 / 0.0020, n = 32: 0.12 / 0.018;
     degree 16 — n = 4: 0.0002 / 0.0019, n = 16: 0.047 / 0.14; degree 64, n = 4: 0.0005 / 0.062.
+    Large coefficients (time of Bareiss over evaluation): n = 4, degree 8 — 256 bits 0.72,
+    1024 bits 2.0; n = 8, degree 32 — 64 bits 0.70, 256 bits 1.65, 1024 bits 4.6; n = 12,
+    degree 64 — 256 bits 1.5, 1024 bits 3.9; a compressed 8×8 minor of degree 103 with
+    4.2-kbit coefficients (an observability matrix's): 4.6 s / 2.7 s.
     Large rational coefficients at large n and low degree (the compressed minors of the
     design of a 32-state system of degree 1) stay with evaluation: Bareiss took 250 s there."""
-    if n <= 8:
+    # the size from the last row only (a heuristic, and both paths are exact; the rows of
+    # the observability matrices grow downwards): scanning every entry cost a quarter of
+    # a 4×4 determinant
+    bits = max((bk.bits(p) for p in a[-1] if p), default=0)
+    if n > 8 and n * bits < 2048:
+        return 2 * dn.mat_degree(a) >= n
+    if n * bits < 2048:
         return True
-    return 2 * dn.mat_degree(a) >= n
+    deg = dn.mat_degree(a)
+    return (n <= 8 or 2 * deg >= n) and n * bits < 64 * deg
 
 
 def integer_rows(a: dn.Rows) -> tuple[IntRows, flint.fmpz]:

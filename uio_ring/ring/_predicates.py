@@ -34,7 +34,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring import _fraction_free as ff
 from uio_ring.ring._echelon import max_bits
-from uio_ring.ring._modular import coprime_dets_mod_p
+from uio_ring.ring._modular import coprime_dets_mod_p, det_mod_p
 
 __all__ = [
     "rank_raw",
@@ -44,6 +44,7 @@ __all__ = [
     "is_hermite_raw",
     "is_smith_raw",
     "coprime_maximal_minors",
+    "det_not_constant_mod_p",
     "left_unimodular_proved",
 ]
 
@@ -102,7 +103,7 @@ def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
     coeffs = ev.coefficient_mats(a, n, n)
     bound = ev.minor_degree_bound(a, n, n, n)
     xs = ev.first_points(bound + 1)
-    ys = [bk.mat_det(ev.evaluate(coeffs, x)) for x in xs]
+    ys = [ev.det_at(coeffs, x) for x in xs]
     return ev.interpolate(xs, ys)
 
 
@@ -160,7 +161,14 @@ def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True) ->
     is then 1 — M is left unimodular.  Coprimality is first proved modulo one prime
     (:mod:`uio_ring.ring._modular`: the first determinant reaches its degree bound mod
     p and the gcd mod p is 1), else decided exactly — unless ``exact=False``, when only
-    the modular proof is tried.  False says nothing.  Precondition: m ≥ n ≥ 1."""
+    the modular proof is tried.  A square M (m = n) has only constant multiples of det M
+    as compressions: there det M decides, exactly (``exact=False``: False).  False says
+    nothing.  Precondition: m ≥ n ≥ 1."""
+    if m == n:  # every compression is det M times a constant: the one exact answer is det M
+        if not exact:
+            return False
+        det = det_raw(a, n)
+        return not det.is_zero() and det.degree() == 0
     rng = random.Random(15)  # fixed: the answer depends only on M
     qa = []
     for _ in range(2):
@@ -172,6 +180,20 @@ def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True) ->
         return False
     dets = [det_raw(b, n) for b in qa]
     return not dets[0].is_zero() and bk.gcd(dets[0], dets[1]).is_one()
+
+
+def det_not_constant_mod_p(a: dn.Rows, n: int) -> bool:
+    """True when det M of the n×n rows ``a`` is proved not to be a constant: its reduction
+    modulo a prime (rows scaled to Z[δ], :func:`~uio_ring.ring._modular.det_mod_p`) has
+    positive degree, so the integer determinant has a nonzero coefficient there.  Then M
+    is not unimodular and has no polynomial inverse.  False proves nothing.
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d = bk.from_coeffs([0, 1])
+    >>> det_not_constant_mod_p([[d, bk.ONE], [bk.ONE, bk.ZERO]], 2), det_not_constant_mod_p([[d, bk.ONE], [bk.ONE, d]], 2)
+    (False, True)
+    """
+    return n > 0 and det_mod_p(a, n)[0].degree() > 0
 
 
 #: The largest n⁵·deg·bits (an estimate of Bareiss' work on the two compressed n×n minors of an
