@@ -375,3 +375,23 @@ def test_observability_solve_grows_its_degree_bound_instead_of_eliminating(monke
     index = _observability_index(s12.A_bar, C_bar, 8)
     assert index is not None and index.O.shape == (14, 8)
     assert index.solved @ index.O == PolyMatrix.vstack(PolyMatrix.identity(8), index.next_block)
+
+
+def test_step_1_names_its_hermite_forms_while_they_run(monkeypatch):
+    """The check's heartbeat says what is taking long: during step 1's Hermite forms the
+    progress note names the matrix and its size."""
+    import uio_ring.design.zheng_bejarano as zb
+    from uio_ring.analysis import _progress
+
+    notes = []
+    hermite = zb.hermite
+
+    def spy(M):
+        notes.append(_progress.current())
+        return hermite(M)
+
+    monkeypatch.setattr(zb, "hermite", spy)
+    sys = DelaySystem("[[0, 1], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)
+    zb._candidate_Us(sys)
+    assert notes[0].startswith("Zheng et al. (2015) step 1: the Hermite form of M, 4×2 of δ-degree")
+    assert _progress.current() == ""

@@ -420,7 +420,8 @@ def _candidate_Us(sys: DelaySystem) -> tuple[int, list[tuple[str, PolyMatrix]]]:
     neighbours ``U0 + [±e_i c_j; 0]`` (see :func:`design_zheng_bejarano`)."""
     n, p = sys.n_x, sys.n_y
     M = matching_matrix(sys)
-    herm = hermite(M)
+    with _progress.step(f"Zheng et al. (2015) step 1: the Hermite form of M, {_progress.size_text(M)}"):
+        herm = hermite(M)
     rho = herm.rank
     U0 = herm.U
     out = [("U = Hermite transform of M", U0)]
@@ -429,7 +430,9 @@ def _candidate_Us(sys: DelaySystem) -> tuple[int, list[tuple[str, PolyMatrix]]]:
         return rho, out
     U_top, U_bot = U0[0:rho, 0 : 2 * p], U0[rho : 2 * p, 0 : 2 * p]
     N_tilde = U_bot @ PolyMatrix.vstack(sys.C @ sys.A, sys.C)
-    hN = hermite(N_tilde)
+    with _progress.step("Zheng et al. (2015) step 1: the Hermite form of the w-free rows of U0 "
+                        f"times [CA; C], {_progress.size_text(N_tilde)}"):
+        hN = hermite(N_tilde)
     V = herm.H[0:rho, 0 : M.cols]
     target = PolyMatrix.vstack(
         PolyMatrix.hstack(sys.B, _Z(n, sys.n_w)), PolyMatrix.hstack(sys.D, _Z(p, sys.n_w))
