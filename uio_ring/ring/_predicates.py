@@ -196,7 +196,7 @@ def det_not_constant_mod_p(a: dn.Rows, n: int) -> bool:
     return n > 0 and det_mod_p(a, n)[0].degree() > 0
 
 
-#: The largest n⁵·deg·bits (an estimate of Bareiss' work on the two compressed n×n minors of an
+#: The largest n⁵·deg·bits (an estimate of the work on the two compressed n×n minors of an
 #: m×n matrix of that δ-degree and coefficient size) for which a failed modular proof of
 #: :func:`left_unimodular_proved` is completed by the exact minors.  The modular proof
 #: fails on matrices that are not column reduced (the observability matrices Ō of a
@@ -204,9 +204,10 @@ def det_not_constant_mod_p(a: dn.Rows, n: int) -> bool:
 #: there: 8×4 of degree 71 with 1121 bits, 8·10⁷, 37 ms (the solve: 7 s); 14×8 of degree
 #: 20 with 416 bits, 3·10⁸, 46 ms; 24×12 of degree 33 with 1853 bits, 1.5·10¹⁰, 5.1 s
 #: (the solve: 77 s); 14×8 of degree 165 with 4858 bits, 2.6·10¹⁰, 13 s (the solve: over
-#: 4 min) — while at 216×32 of degree 23 with 2598 bits, 2·10¹², the minors take 84 s and
-#: the solve 2 s.
-EXACT_MINORS_BUDGET = 5 * 10**10
+#: 4 min); 16×8 of degree 207 with 9550 bits, 6.5·10¹⁰, 44 s (the solve: over 10 min) —
+#: while at 216×32 of degree 23 with 2598 bits, 2·10¹², the minors take 84 s and the
+#: solve 2 s.
+EXACT_MINORS_BUDGET = 10**11
 
 
 def left_unimodular_proved(a: dn.Rows, m: int, n: int, *, cheap_only: bool = False) -> bool:
