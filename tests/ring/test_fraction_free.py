@@ -31,8 +31,11 @@ def _det_by_evaluation(M: PolyMatrix):
 def test_evaluation_over_z_is_exact(M, x):
     # coefficient_mats scales to integers over one common denominator and evaluate
     # divides once: the value must be M(x) exactly, entry by entry
-    value = ev.evaluate(ev.coefficient_mats(M._r, *M.shape), x)
+    coeffs = ev.coefficient_mats(M._r, *M.shape)
+    value = ev.evaluate(coeffs, x)
     assert value.tolist() == [[bk.evaluate(p, flint.fmpq(x)) for p in row] for row in M._r]
+    if M.rows == M.cols:
+        assert ev.det_at(coeffs, x) == value.det()
 
 
 @given(square_matrices(min_n=1, max_n=5))

@@ -142,24 +142,26 @@ def _vandermonde_inverse(xs: Sequence[int]) -> flint.fmpq_mat:
 _FEW_COLUMNS = 8
 
 
-def evaluate(coeffs: Coefficients, x: int) -> flint.fmpq_mat:
-    """``M(x)`` exactly: ``Σ Z_e·x^e`` by Horner's rule over Z (in C), divided by ``den``
-    (:class:`Coefficients`)."""
+def _integer_value(coeffs: Coefficients, x: int) -> flint.fmpz_mat:
+    """``Σ Z_e·x^e`` by Horner's rule over Z (in C): ``den·M(x)``."""
     mats = coeffs.mats
     acc = mats[-1]
     for c in reversed(mats[:-1]):
         acc = acc * x + c
-    out = flint.fmpq_mat(acc)
+    return acc
+
+
+def evaluate(coeffs: Coefficients, x: int) -> flint.fmpq_mat:
+    """``M(x)`` exactly: ``Σ Z_e·x^e`` by Horner's rule over Z (in C), divided by ``den``
+    (:class:`Coefficients`)."""
+    out = flint.fmpq_mat(_integer_value(coeffs, x))
     return out if coeffs.den == 1 else out / coeffs.den
 
 
 def det_at(coeffs: Coefficients, x: int) -> flint.fmpq:
     """``det M(x)`` for a square M: the integer determinant of ``Σ Z_e·x^e`` (flint
     ``fmpz_mat``) over ``den^n`` — no rational matrix is built."""
-    mats = coeffs.mats
-    acc = mats[-1]
-    for c in reversed(mats[:-1]):
-        acc = acc * x + c
+    acc = _integer_value(coeffs, x)
     det = flint.fmpq(acc.det())
     return det if coeffs.den == 1 else det / coeffs.den ** acc.nrows()
 
