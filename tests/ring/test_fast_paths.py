@@ -139,6 +139,22 @@ def test_toeplitz_hermite_equals_elimination(M):
         assert h.U == ref.U
 
 
+@given(st.one_of(matrices(min_rows=1, max_cols=3), rank_deficient_matrices(max_cols=3)), st.data())
+def test_hermite_without_zero_columns_equals_elimination(M, data):
+    """Zero columns are set aside (hermite builds H from the form of the other columns):
+    H, U, rank and pivots equal the elimination's on the whole matrix — U is unique
+    (square nonsingular, or reduced modulo the Popov kernel rows)."""
+    at = sorted(data.draw(st.lists(st.integers(0, M.cols), min_size=1, max_size=2)))
+    cols = [M[:, j : j + 1] for j in range(M.cols)]
+    for k, j in enumerate(at):
+        cols.insert(j + k, PolyMatrix.zeros(M.rows, 1))
+    P = PolyMatrix.hstack(*cols)
+    h, ref = hermite(P), hermite_by_elimination(P)
+    assert h.H == ref.H and h.rank == ref.rank and h.pivots == ref.pivots
+    assert h.U == ref.U
+    assert h.U @ P == h.H and is_unimodular(h.U)
+
+
 @heavy()
 @given(st.integers(1, 5).flatmap(lambda n: dense_matrices(rows=n + 3, cols=n, max_degree=2)))
 def test_left_inverse_fast_path_is_the_reduced_inverse(M):

@@ -19,6 +19,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import flint
+
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _integral as zi
 from uio_ring.ring._echelon import (
@@ -156,6 +158,9 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     M = require_matrix(M, "hermite")
     m, n = M.shape
     var = M.var
+    zero_columns = _zero_columns(M)
+    if zero_columns and len(zero_columns) < n:
+        return _with_zero_columns(hermite(_without_columns(M, zero_columns)), zero_columns, n)
     singular = False
     if m == n >= GENERIC_MIN_SIZE:
         det = det_raw(M._r, n)
@@ -188,6 +193,35 @@ def hermite(M: PolyMatrix) -> HermiteResult:
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
+
+
+def _zero_columns(M: PolyMatrix) -> list[int]:
+    """The columns of M that are zero."""
+    return [j for j in range(M.cols) if not any(row[j] for row in M._r)]
+
+
+def _without_columns(M: PolyMatrix, drop: list[int]) -> PolyMatrix:
+    keep = [j for j in range(M.cols) if j not in set(drop)]
+    return PolyMatrix._new([[row[j] for j in keep] for row in M._r], M.rows, len(keep), M.var)
+
+
+def _with_zero_columns(res: HermiteResult, zero_columns: list[int], n: int) -> HermiteResult:
+    """The Hermite form of M from that of M without its zero columns: row operations leave
+    a zero column zero, so H gets them back and U, the rank and the row relations (hence
+    the Popov kernel rows of U and the rows reduced modulo them) are those of M.  The
+    elimination of a tall rank-deficient M can swell on columns it cannot use: the
+    matching matrix ``[[CB, D], [D, 0]]`` of an 8-state system with 8 outputs, D = 0 and
+    δ-degree 16 (16×8, four zero columns, degree 32): 114 s, against 0.5 s without them."""
+    zero = set(zero_columns)
+    keep = [j for j in range(n) if j not in zero]
+    rows = []
+    for row in res.H._r:
+        full = [flint.fmpq_poly() for _ in range(n)]
+        for j, p in zip(keep, row, strict=True):
+            full[j] = p
+        rows.append(full)
+    H = PolyMatrix._new(rows, res.H.rows, n, res.H.var)
+    return HermiteResult(H, res.U, res.rank, tuple(keep[j] for j in res.pivots))
 
 
 #: Square matrices of at most this many rows, when M(0) is nonsingular, are eliminated
