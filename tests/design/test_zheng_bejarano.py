@@ -325,6 +325,7 @@ def test_observability_index_skips_a_square_obar_whose_det_is_not_constant(monke
     outputs at δ-degree 8: an 8×8 Ō of degree 64, 18 s of solve to learn it); Ō_2 is left
     unimodular."""
     import uio_ring.design.zheng_bejarano as zb
+    from uio_ring.analysis import _progress
 
     shapes = []
     solve_left, proved = zb.solve_left, zb.left_unimodular_proved
@@ -335,6 +336,7 @@ def test_observability_index_skips_a_square_obar_whose_det_is_not_constant(monke
 
     def spy_proof(a, m, n, **kw):
         shapes.append((m, n))
+        assert _progress.current().startswith("Zheng et al. (2015) step 3, l = 2: proving Ō left unimodular")
         return proved(a, m, n, **kw)
 
     monkeypatch.setattr(zb, "solve_left", spy_solve)
@@ -395,3 +397,24 @@ def test_step_1_names_its_hermite_forms_while_they_run(monkeypatch):
     zb._candidate_Us(sys)
     assert notes[0].startswith("Zheng et al. (2015) step 1: the Hermite form of M, 4×2 of δ-degree")
     assert _progress.current() == ""
+
+
+def test_step_1_skips_the_second_hermite_form_when_no_move_is_tried(monkeypatch):
+    """With D = 0 the Γ-part of V̄ is zero, and moves through its K-part are tried only for
+    small systems (n_x·δ-degree ≤ 12): then no move exists, and the Hermite form of the
+    w-free rows of U0 times [CA; C], whose only use is the moves, is not computed (an
+    8-state spec with 8 outputs at δ-degree 16: 47 s of a 2-minute check)."""
+    import uio_ring.design.zheng_bejarano as zb
+
+    shapes = []
+    hermite = zb.hermite
+
+    def spy(M):
+        shapes.append(M.shape)
+        return hermite(M)
+
+    monkeypatch.setattr(zb, "hermite", spy)
+    sys = DelaySystem("[[0, d**7], [0, 0]]", "[[0], [1]]", "[[1, 0], [0, 1]]", None)
+    rho, Us = zb._candidate_Us(sys)
+    assert shapes == [zb.matching_matrix(sys).shape]  # the Hermite form of M only
+    assert rho == 1 and [label for label, _ in Us] == ["U = Hermite transform of M"]

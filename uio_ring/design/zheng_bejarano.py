@@ -191,8 +191,12 @@ def _observability_index(A_bar: PolyMatrix, C_bar: PolyMatrix, n: int, *, solve:
         nxt = last @ A_bar
         if O.rows == n and det_not_constant_mod_p(O._r, n):
             continue  # a square Ō whose det has positive degree (mod p): no inverse, no solve
-        if not solve and left_unimodular_proved(O._r, *O.shape, cheap_only=True):
-            return _ObservabilityIndex(l, O)  # proved without the solve, which may be large
+        if not solve:
+            with _progress.step(f"Zheng et al. (2015) step 3, l = {l}: proving Ō left unimodular by "
+                                f"its maximal minors, Ō {_progress.size_text(O)}"):
+                proved = left_unimodular_proved(O._r, *O.shape, cheap_only=True)
+            if proved:
+                return _ObservabilityIndex(l, O)  # proved without the solve, which may be large
         try:
             with _progress.step(f"Zheng et al. (2015) step 3, l = {l}: solving X·Ō = [I; C̄Ā^l], "
                                 f"Ō {_progress.size_text(O)}"):
@@ -429,10 +433,6 @@ def _candidate_Us(sys: DelaySystem) -> tuple[int, list[tuple[str, PolyMatrix]]]:
     if rho == 0 or s == 0:
         return rho, out
     U_top, U_bot = U0[0:rho, 0 : 2 * p], U0[rho : 2 * p, 0 : 2 * p]
-    N_tilde = U_bot @ PolyMatrix.vstack(sys.C @ sys.A, sys.C)
-    with _progress.step("Zheng et al. (2015) step 1: the Hermite form of the w-free rows of U0 "
-                        f"times [CA; C], {_progress.size_text(N_tilde)}"):
-        hN = hermite(N_tilde)
     V = herm.H[0:rho, 0 : M.cols]
     target = PolyMatrix.vstack(
         PolyMatrix.hstack(sys.B, _Z(n, sys.n_w)), PolyMatrix.hstack(sys.D, _Z(p, sys.n_w))
@@ -443,6 +443,12 @@ def _candidate_Us(sys: DelaySystem) -> tuple[int, list[tuple[str, PolyMatrix]]]:
     moves_C = [i for i in range(rho) if not Vbar[n : n + p, i : i + 1].is_zero()]
     moves_A = [i for i in range(rho) if i not in moves_C and not Vbar[0:n, i : i + 1].is_zero()]
     useful = moves_C + (moves_A if sys.n_x * max(1, sys.max_delay_degree) <= 12 else [])
+    if not useful:  # no move to make: the rows g_j below are not needed (their U can be large:
+        return rho, out  # 12×8 of degree 64 with 3.6-kbit rows for an 8-state system, 47 s)
+    N_tilde = U_bot @ PolyMatrix.vstack(sys.C @ sys.A, sys.C)
+    with _progress.step("Zheng et al. (2015) step 1: the Hermite form of the w-free rows of U0 "
+                        f"times [CA; C], {_progress.size_text(N_tilde)}"):
+        hN = hermite(N_tilde)
     for j in range(hN.rank):
         c_j = hN.U[j : j + 1, 0:s] @ U_bot  # a row of the left kernel of M
         for i in useful:
