@@ -281,6 +281,41 @@ def test_square_minors_decide_by_the_determinant(M):
         assert M.det().degree() > 0 and not unimodular
 
 
+@given(st.integers(1, 4).flatmap(lambda n: dense_matrices(rows=n + 2, cols=n, max_degree=2)))
+def test_top_minor_proof_is_sound(M):
+    """First n rows made upper triangular (as C̄ on top of Ō): their exact minor and one
+    compressed minor, coprime modulo a prime, prove M left unimodular — never wrongly."""
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring._predicates import _coprime_with_the_top_minor
+
+    n = M.cols
+    a = dn.copy(M._r)
+    for i in range(n):
+        for j in range(i):
+            a[i][j] = a[i][j] * 0
+    T = PolyMatrix._new(a, n + 2, n, "d")
+    Q = PolyMatrix([[(3 * i + 5 * k) % 7 - 3 for k in range(n + 2)] for i in range(n)])
+    compressed = (Q @ T)._r
+    proved = _coprime_with_the_top_minor(a, compressed, n)
+    event(f"proved={proved}")
+    if proved:
+        assert is_left_unimodular(T)
+
+
+def test_top_minor_proves_an_observability_matrix_that_is_not_column_reduced():
+    """Ō = [C̄; C̄Ā] with C̄ = [[d, 1], [0, d]] (Hermite, det δ²) and C̄Ā = [[1, 0], [δ, δ + 1]]:
+    left unimodular (rows 1 and 3 give −1)."""
+    from uio_ring.ring._predicates import _coprime_with_the_top_minor, coprime_maximal_minors
+
+    O = PolyMatrix("[[d, 1], [0, d], [1, 0], [d, d + 1]]")
+    assert is_left_unimodular(O)
+    compressed = (PolyMatrix("[[1, 2, -1, 3], [2, -3, 1, 1]]") @ O)._r
+    assert _coprime_with_the_top_minor(O._r, compressed, 2)
+    assert coprime_maximal_minors(O._r, 4, 2)
+    N = PolyMatrix("[[d, 1], [0, d], [d, 0], [d, d]]")  # every 2×2 minor is a multiple of δ
+    assert not _coprime_with_the_top_minor(N._r, (PolyMatrix("[[1, 2, -1, 3], [2, -3, 1, 1]]") @ N)._r, 2)
+
+
 @pytest.mark.parametrize("text", ["[[1, d**2], [0, 1], [d, d**3 + 1]]", "[[d + 1, d], [d, d - 1], [1, 1]]"])
 def test_left_unimodular_proof_completed_exactly_when_not_column_reduced(text):
     """Left unimodular but not column reduced: the compressed minor misses its degree bound,
