@@ -143,6 +143,23 @@ def test_extend_row_basis_of_the_whole_module_is_the_identity(monkeypatch):
     assert _module(PolyMatrix.vstack(B, ext.rows)) == PolyMatrix.identity(2)
 
 
+def test_extend_row_basis_completes_the_proof_exactly_when_cheap(monkeypatch):
+    # [[δ, δ³ + 1], [1, δ²], [0, 1]] is not column reduced: the compressed minors miss their
+    # degree bound modulo p, and the exact ones (cheap here) prove the module is Q[δ]²
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring import row_basis
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("weak_popov called on a module proved to be Q[δ]^n")
+
+    B, X = PolyMatrix("[[d, d**3 + 1]]"), PolyMatrix("[[1, d**2], [0, 1]]")
+    monkeypatch.setattr(dn, "weak_popov", refuse)
+    assert extend_row_basis(B, X).basis == PolyMatrix.identity(2)
+    monkeypatch.setattr(row_basis, "EXACT_PROOF_BUDGET", 0)  # the modular proof alone fails
+    with pytest.raises(AssertionError, match="weak_popov called"):
+        extend_row_basis(B, X)
+
+
 def _reduce_rationally(x: list[flint.fmpq_poly], lead: dict[int, list[flint.fmpq_poly]]) -> list[flint.fmpq_poly]:
     """Oracle: the plain one-term reduction over Q, then the primitive integer row
     ([] for zero) — what ``row_basis._reduce_row`` computes fraction-free."""

@@ -11,7 +11,7 @@ new rows X, :func:`extend_row_basis` returns
   positive integer, contents divided out), which gives the same primitive rows;
 * ``basis`` — a weak Popov basis of that sum (Mulders & Storjohann 2003), or I when
   the sum is proved to be all of Q[δ]^n (two coprime compressed maximal minors modulo a
-  prime, :func:`~uio_ring.ring._predicates.coprime_maximal_minors`).  The
+  prime, or exactly when cheap: :func:`_spans_everything`).  The
   Mulders–Storjohann sequence can swell by hundreds of bits a step where the new rows
   are large: for a random 8-state spec with 8 outputs at δ-degree 16, a 12×8 of
   2.6-kbit rows ran for minutes; the proof takes 12 ms.
@@ -40,6 +40,7 @@ import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._echelon import max_bits
 from uio_ring.ring._predicates import coprime_maximal_minors
 from uio_ring.ring.errors import DimensionError
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
@@ -160,6 +161,28 @@ def remainder_rows(rows: PolyMatrix, basis: PolyMatrix) -> PolyMatrix:
     return PolyMatrix._new(out, rows.rows, rows.cols, rows.var)
 
 
+#: The largest n⁵·deg·bits of the stacked rows for which :func:`_spans_everything` completes a
+#: failed modular proof by exact minors (about a second at most; the attempt is speculative:
+#: a proper submodule pays it for nothing).
+EXACT_PROOF_BUDGET = 10**9
+
+
+def _spans_everything(rows: dn.Rows, n: int) -> bool:
+    """True when the tall stacked rows are proved to span Q[δ]^n: two coprime compressed
+    maximal minors (:func:`~uio_ring.ring._predicates.coprime_maximal_minors`), modulo a
+    prime, or exactly within ``EXACT_PROOF_BUDGET`` (a 13×8 of degree 38 with 276-bit rows
+    misses the modular proof: not column reduced; its Mulders–Storjohann sequence took 28 s
+    and ended in a constant matrix of 88-kbit entries; the exact minors take 0.1 s).  Tall
+    only: a square matrix's compressed minors are det M times constants, and their mixed
+    rows take every row to the largest degree (a 16×16 of row degrees 16 … 320: 2.6 s for
+    no proof, where the reduction takes less)."""
+    m = len(rows)
+    if m <= n:
+        return False
+    work = n**5 * max(dn.mat_degree(rows), 1) * max(max_bits(rows), 1)
+    return coprime_maximal_minors(rows, m, n, exact=work <= EXACT_PROOF_BUDGET)
+
+
 def extend_row_basis(basis: PolyMatrix, rows: PolyMatrix) -> RowBasisExtension:
     """Reduce ``rows`` modulo the weak Popov ``basis`` and extend the basis (module docstring).
 
@@ -192,11 +215,8 @@ def extend_row_basis(basis: PolyMatrix, rows: PolyMatrix) -> RowBasisExtension:
     reduced = [_reduce_row(list(r), lead) for r in rows._r]
     reduced = [r for r in reduced if r]
     new = dn.copy(basis._r) + dn.copy(reduced)
-    # tall only: a square matrix's compressed minors are det M times constants, and their
-    # mixed rows take every row to the largest degree (a 16×16 of row degrees 16 … 320:
-    # 2.6 s for no proof, where the reduction takes less)
-    if len(new) > n and coprime_maximal_minors(new, len(new), n, exact=False):
-        new = dn.identity(n)  # the module is Q[δ]^n (proved modulo a prime): I is its basis
+    if _spans_everything(new, n):
+        new = dn.identity(n)  # the module is Q[δ]^n: I is its basis
     else:
         kept = dn.weak_popov(new)
         new = new[: len(kept)]
