@@ -31,27 +31,41 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Coefficients:
-    """A polynomial matrix M as integer coefficient matrices over one common denominator:
-    ``M = (Z_0 + Z_1 δ + …) / den`` (:func:`coefficient_mats`).
+    """An m×n polynomial matrix M as integer coefficient matrices, row i scaled by the
+    least common denominator ``dens[i]`` of its coefficients:
+    ``M = diag(dens)⁻¹·(Z_0 + Z_1 δ + …)`` (:func:`coefficient_mats`).
 
     Horner's rule then runs over Z (flint ``fmpz_mat``) and divides once at the end:
     over Q every step normalised a fraction per entry — 50× slower on a 16×8 of
-    δ-degree 103 with 4.2-kbit coefficients (13 s against 0.25 s at 168 points)."""
+    δ-degree 103 with 4.2-kbit coefficients (13 s against 0.25 s at 168 points).  A
+    scale per row, not one for the whole matrix: rows with different denominators
+    would otherwise carry each other's (the determinants of a degree-reduced 16×16 were
+    4× slower)."""
 
     mats: list[flint.fmpz_mat]
-    den: flint.fmpz
+    dens: list[flint.fmpz]
+    inverse_scale: flint.fmpq_mat | None  # diag(dens)⁻¹, None when every dens[i] is 1
 
 
 def coefficient_mats(a: dn.Rows, m: int, n: int) -> Coefficients:
     """The integer coefficient matrices of the m×n rows ``a`` (:class:`Coefficients`;
     one zero matrix for a zero matrix)."""
     deg = max(dn.mat_degree(a), 0)
-    pairs = [flint.fmpq_mat(m, n, [p[e] for r in a for p in r]).numer_denom() for e in range(deg + 1)]
-    den = flint.fmpz(1)
-    for _, d in pairs:
-        if d != 1:
-            den = den * d // den.gcd(d)
-    return Coefficients([z if d == den else z * (den // d) for z, d in pairs], den)
+    mats = [flint.fmpq_mat(m, n, [p[e] for r in a for p in r]) for e in range(deg + 1)]
+    pairs = [c.numer_denom() for c in mats]
+    if all(d == 1 for _, d in pairs):
+        return Coefficients([z for z, _ in pairs], [flint.fmpz(1)] * m, None)
+    dens = []
+    for row in a:
+        den = flint.fmpz(1)
+        for p in row:
+            q = p.denom()
+            if q != 1:
+                den = den * q // den.gcd(q)
+        dens.append(den)
+    scale = flint.fmpq_mat(m, m, [dens[i] if i == j else 0 for i in range(m) for j in range(m)])
+    inverse = flint.fmpq_mat(m, m, [flint.fmpq(1, dens[i]) if i == j else 0 for i in range(m) for j in range(m)])
+    return Coefficients([(scale * c).numer_denom()[0] for c in mats], dens, inverse)
 
 
 def points() -> Iterator[int]:
@@ -143,7 +157,7 @@ _FEW_COLUMNS = 8
 
 
 def _integer_value(coeffs: Coefficients, x: int) -> flint.fmpz_mat:
-    """``Σ Z_e·x^e`` by Horner's rule over Z (in C): ``den·M(x)``."""
+    """``Σ Z_e·x^e`` by Horner's rule over Z (in C): ``diag(dens)·M(x)``."""
     mats = coeffs.mats
     acc = mats[-1]
     for c in reversed(mats[:-1]):
@@ -152,18 +166,21 @@ def _integer_value(coeffs: Coefficients, x: int) -> flint.fmpz_mat:
 
 
 def evaluate(coeffs: Coefficients, x: int) -> flint.fmpq_mat:
-    """``M(x)`` exactly: ``Σ Z_e·x^e`` by Horner's rule over Z (in C), divided by ``den``
-    (:class:`Coefficients`)."""
+    """``M(x)`` exactly: ``Σ Z_e·x^e`` by Horner's rule over Z (in C), row i divided by
+    ``dens[i]`` (:class:`Coefficients`)."""
     out = flint.fmpq_mat(_integer_value(coeffs, x))
-    return out if coeffs.den == 1 else out / coeffs.den
+    return out if coeffs.inverse_scale is None else coeffs.inverse_scale * out
 
 
 def det_at(coeffs: Coefficients, x: int) -> flint.fmpq:
     """``det M(x)`` for a square M: the integer determinant of ``Σ Z_e·x^e`` (flint
-    ``fmpz_mat``) over ``den^n`` — no rational matrix is built."""
-    acc = _integer_value(coeffs, x)
-    det = flint.fmpq(acc.det())
-    return det if coeffs.den == 1 else det / coeffs.den ** acc.nrows()
+    ``fmpz_mat``) over the product of the row scales — no rational matrix is built."""
+    det = flint.fmpq(_integer_value(coeffs, x).det())
+    if coeffs.inverse_scale is None:
+        return det
+    for d in coeffs.dens:
+        det /= d
+    return det
 
 
 def interpolate(xs: Sequence[int], ys: Sequence[flint.fmpq]) -> flint.fmpq_poly:
