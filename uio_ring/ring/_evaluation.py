@@ -49,7 +49,13 @@ class Coefficients:
 
 def coefficient_mats(a: dn.Rows, m: int, n: int) -> Coefficients:
     """The integer coefficient matrices of the m×n rows ``a`` (:class:`Coefficients`;
-    one zero matrix for a zero matrix)."""
+    one zero matrix for a zero matrix).
+
+    >>> from fractions import Fraction
+    >>> c = coefficient_mats([[bk.from_coeffs([Fraction(1, 2), 1])], [bk.from_coeffs([0, 3])]], 2, 1)
+    >>> [int(d) for d in c.dens], evaluate(c, 2).tolist(), det_at(coefficient_mats([[bk.from_coeffs([0, 3])]], 1, 1), 2)
+    ([2, 1], [[5/2], [6]], 6)
+    """
     deg = max(dn.mat_degree(a), 0)
     mats = [flint.fmpq_mat(m, n, [p[e] for r in a for p in r]) for e in range(deg + 1)]
     pairs = [c.numer_denom() for c in mats]
@@ -64,7 +70,8 @@ def coefficient_mats(a: dn.Rows, m: int, n: int) -> Coefficients:
                 den = den * q // den.gcd(q)
         dens.append(den)
     scale = flint.fmpq_mat(m, m, [dens[i] if i == j else 0 for i in range(m) for j in range(m)])
-    inverse = flint.fmpq_mat(m, m, [flint.fmpq(1, dens[i]) if i == j else 0 for i in range(m) for j in range(m)])
+    inverse = flint.fmpq_mat(m, m, [flint.fmpq(1, dens[i]) if i == j else 0
+                                    for i in range(m) for j in range(m)])
     return Coefficients([(scale * c).numer_denom()[0] for c in mats], dens, inverse)
 
 

@@ -191,8 +191,9 @@ TOP_MINOR_BUDGET = 10**9
 
 def _coprime_with_the_top_minor(a: dn.Rows, compressed: dn.Rows, n: int) -> bool:
     """True when f₁ = det of the first n rows (exact: the product of the diagonal when they
-    are upper triangular, else when its work is within ``TOP_MINOR_BUDGET``) and the compressed minor f₂ = det(Q·M) are coprime, proved
-    modulo a prime: f₁ scaled to Z[δ] keeps its degree mod p and the gcd mod p is 1.
+    are upper triangular, else when its work is within ``TOP_MINOR_BUDGET``) and the
+    compressed minor f₂ = det(Q·M) are coprime, proved modulo a prime: f₁ scaled to Z[δ]
+    keeps its degree mod p and the gcd mod p is 1.
     Both are Q-linear combinations of the maximal minors, so M is left unimodular.
     (Proof as in :mod:`uio_ring.ring._modular`: a primitive common factor h divides both
     integer forms; p does not divide lc f₁, hence not lc h, and h mod p of positive degree

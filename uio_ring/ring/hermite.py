@@ -201,6 +201,7 @@ def _zero_columns(M: PolyMatrix) -> list[int]:
 
 
 def _without_columns(M: PolyMatrix, drop: list[int]) -> PolyMatrix:
+    """M without the columns ``drop``."""
     keep = [j for j in range(M.cols) if j not in set(drop)]
     return PolyMatrix._new([[row[j] for j in keep] for row in M._r], M.rows, len(keep), M.var)
 
