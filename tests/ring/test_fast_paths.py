@@ -139,6 +139,27 @@ def test_toeplitz_hermite_equals_elimination(M):
         assert h.U == ref.U
 
 
+@given(st.integers(2, 5).flatmap(lambda n: dense_matrices(rows=n, cols=n, max_degree=2)))
+def test_one_row_kernel_reduction_equals_the_popov_division(T):
+    """reduce_transform with a one-row kernel (corank 1): the row made monic at its leading
+    entry and one Euclidean quotient per top row give exactly the Popov form and the
+    remainder of the general division."""
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring import _division as dv
+    from uio_ring.ring._echelon import _reduce_by_one_row
+
+    u = dn.copy(T._r)
+    r = len(u) - 1
+    if not any(u[r]):
+        return
+    kern = [list(u[r])]
+    dn.weak_popov(kern)
+    dn.popov(kern)
+    expected = dv.reduce_modulo_popov(u[:r], kern) + kern
+    _reduce_by_one_row(u, r)
+    assert u == expected
+
+
 @given(st.one_of(matrices(min_rows=1, max_cols=3), rank_deficient_matrices(max_cols=3)), st.data())
 def test_hermite_without_zero_columns_equals_elimination(M, data):
     """Zero columns are set aside (hermite builds H from the form of the other columns):

@@ -197,6 +197,22 @@ def normalise(a: dn.Rows, u: dn.Rows | None, pivots: list[int]) -> None:
 VIA_MIN_ENTRIES = 100
 
 
+def _reduce_by_one_row(u: dn.Rows, r: int) -> None:
+    """:func:`reduce_transform` when the kernel has one row (a rank-deficient square M of
+    corank 1): its Popov form is the row made monic at its leading entry, and the
+    division of a top row is one Euclidean quotient of its entry in that column — the
+    remainder of :class:`~uio_ring.ring._division.PopovDivisor` with k = 1, without its
+    set-up (a quarter of the Hermite form of a rank-deficient 4×4 went to that)."""
+    d, j = dn.leading_position(u[r])
+    c = bk.lc(u[r][j])
+    if c != 1:
+        dn.row_divide(u, r, c)
+    pivot = u[r][j]
+    for i in range(r):
+        if u[i][j].degree() >= d:
+            dn.row_axpy(u, i, u[i][j] // pivot, r)
+
+
 def reduce_transform(u: dn.Rows, r: int, kernel: dn.Rows | None = None) -> None:
     """Lower the degree of a transform whose rows ``r:`` span a left kernel, in place.
 
@@ -210,6 +226,9 @@ def reduce_transform(u: dn.Rows, r: int, kernel: dn.Rows | None = None) -> None:
     module as ``kernel`` when it is given (not checked).
     """
     if r >= len(u):
+        return
+    if kernel is None and len(u) == r + 1:
+        _reduce_by_one_row(u, r)
         return
     via = None
     if kernel is None and r * len(u) < VIA_MIN_ENTRIES:
