@@ -28,7 +28,7 @@ from uio_ring.analysis._module_factors import module_factors_and_kernel
 from uio_ring.analysis._w_step import WStep, eliminate_w
 from uio_ring.analysis.report import ObservabilityReport
 from uio_ring.errors import UioRingError
-from uio_ring.ring import _backend as bk
+from uio_ring.ring._echelon import max_bits
 from uio_ring.ring._monic_det import KernelDet, in_row_module
 from uio_ring.ring.matrix import Poly, PolyMatrix
 from uio_ring.ring.row_basis import extend_row_basis
@@ -120,7 +120,7 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
 
 def _size_note(k: int, basis: PolyMatrix, Delta: PolyMatrix) -> str:
     """The progress line of step k (:mod:`uio_ring.analysis._progress`)."""
-    bits = max((bk.bits(p) for row in Delta._r for p in row), default=0)
+    bits = max_bits(Delta._r)
     return (f"algorithm (4)–(5) of Zheng et al. (2015), k = {k}: rank N_{k} = {basis.rows} of "
             f"{basis.cols}, Δ_{k} of δ-degree {Delta.degree()} with {bits}-bit coefficients")
 

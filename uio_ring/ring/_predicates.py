@@ -46,6 +46,7 @@ __all__ = [
     "coprime_maximal_minors",
     "det_not_constant_mod_p",
     "left_unimodular_proved",
+    "minors_work",
 ]
 
 
@@ -165,10 +166,7 @@ def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True) ->
     as compressions: there det M decides, exactly (``exact=False``: False).  False says
     nothing.  Precondition: m ≥ n ≥ 1."""
     if m == n:  # every compression is det M times a constant: the one exact answer is det M
-        if not exact:
-            return False
-        det = det_raw(a, n)
-        return not det.is_zero() and det.degree() == 0
+        return exact and is_unimodular_raw(a, n, n)
     rng = random.Random(15)  # fixed: the answer depends only on M
     qa = []
     for _ in range(2):
@@ -182,6 +180,12 @@ def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True) ->
         return True
     dets = [det_raw(b, n) for b in qa]
     return not dets[0].is_zero() and bk.gcd(dets[0], dets[1]).is_one()
+
+
+def minors_work(a: dn.Rows, n: int) -> int:
+    """``n⁵·deg·bits`` of the rows ``a`` with n columns: an estimate of the work on an exact
+    n×n minor of them (the budgets below are in this unit)."""
+    return n**5 * max(dn.mat_degree(a), 1) * max(max_bits(a), 1)
 
 
 #: The largest n⁵·deg·bits of the first n rows for which :func:`_coprime_with_the_top_minor`
@@ -206,7 +210,7 @@ def _coprime_with_the_top_minor(a: dn.Rows, compressed: dn.Rows, n: int) -> bool
         f1 = bk.ONE
         for i in range(n):
             f1 = f1 * top[i][i]
-    elif n**5 * max(dn.mat_degree(top), 1) * max(max_bits(top), 1) <= TOP_MINOR_BUDGET:
+    elif minors_work(top, n) <= TOP_MINOR_BUDGET:
         f1 = det_raw(top, n)
     else:
         return False
@@ -261,8 +265,7 @@ def left_unimodular_proved(a: dn.Rows, m: int, n: int, *, cheap_only: bool = Fal
     >>> left_unimodular_proved([[d, bk.ONE], [bk.ONE, bk.ZERO], [d, d]], 3, 2)
     True
     """
-    work = n**5 * max(dn.mat_degree(a), 1) * max(max_bits(a), 1)
-    cheap = work <= EXACT_MINORS_BUDGET
+    cheap = minors_work(a, n) <= EXACT_MINORS_BUDGET
     if cheap_only and not cheap:
         return False
     return coprime_maximal_minors(a, m, n, exact=cheap)

@@ -40,8 +40,7 @@ import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
-from uio_ring.ring._echelon import max_bits
-from uio_ring.ring._predicates import coprime_maximal_minors
+from uio_ring.ring._predicates import coprime_maximal_minors, minors_work
 from uio_ring.ring.errors import DimensionError
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
@@ -179,8 +178,7 @@ def _spans_everything(rows: dn.Rows, n: int) -> bool:
     m = len(rows)
     if m <= n:
         return False
-    work = n**5 * max(dn.mat_degree(rows), 1) * max(max_bits(rows), 1)
-    return coprime_maximal_minors(rows, m, n, exact=work <= EXACT_PROOF_BUDGET)
+    return coprime_maximal_minors(rows, m, n, exact=minors_work(rows, n) <= EXACT_PROOF_BUDGET)
 
 
 def extend_row_basis(basis: PolyMatrix, rows: PolyMatrix) -> RowBasisExtension:
