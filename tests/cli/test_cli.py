@@ -184,22 +184,24 @@ def test_long_checks_say_what_is_taking_long(tmp_path, capfd, monkeypatch):
 def test_heartbeat_keeps_beating_while_one_call_holds_the_interpreter(capfd, monkeypatch):
     """One call into C (FLINT's solves can take minutes) holds the interpreter, so no thread
     of this process can print; the heartbeat's lines come from a forked child, with the
-    latest progress note.  Here ``sum(range(N))`` holds it for about a second."""
+    latest progress note.  Here ``sum(range(N))`` holds it for more than half a second
+    (N doubles until it does: the machine's speed varies)."""
     import time
 
     import uio_ring.cli.spec_commands as sc
     from uio_ring.analysis import _progress
 
     monkeypatch.setattr(sc, "HEARTBEAT_SECONDS", 0.05)
+    n, held, err = 10**7, 0.0, ""
     with sc._Heartbeat("testing the heartbeat"):
         with _progress.step("step 7: a long call"):
-            start = time.monotonic()
-            sum(range(10**7))  # calibrate: one pass of C without a switch of threads
-            reps = max(1, int(1.0 / max(time.monotonic() - start, 1e-3)))
-            start = time.monotonic()
-            sum(range(10**7 * reps))
-            held = time.monotonic() - start
-    err = capfd.readouterr().err
+            while held <= 0.5 and n < 10**11:  # one pass of C, longer until it holds > 0.5 s
+                n *= 2
+                capfd.readouterr()  # only the lines printed during this call count
+                start = time.monotonic()
+                sum(range(n))
+                held = time.monotonic() - start
+                err = capfd.readouterr().err
     lines = [x for x in err.splitlines()
              if x.startswith("uio-ring: still testing the heartbeat") and x.endswith("— step 7: a long call")]
     assert held > 0.5 and len(lines) >= 3, (held, err)
