@@ -122,6 +122,8 @@ def interpolate_columns(values: flint.fmpq_mat, xs: Sequence[int] | None = None)
     """Interpolate every column of ``values`` (row k = values at ``xs[k]``, by default the
     k-th point of :func:`points`); one polynomial of degree < len(xs) per column.
 
+    At most ``SMALL_INVERSE_POINTS`` of the standard points: one integer product with the
+    cached ``D·V⁻¹`` (:func:`_small_standard_inverse`).  Otherwise
     Lagrange's formula ``p = Σ_i y_i/W_i · Π_{j≠i}(δ − x_j)``, ``W_i = Π_{j≠i}(x_i − x_j)``.
     Few columns (≤ 8): a subproduct tree per column (:func:`_lagrange_sum`,
     O(M(N) log N)); no Vandermonde inverse, whose cost grows like N⁴ bits (5 s at
@@ -135,6 +137,10 @@ def interpolate_columns(values: flint.fmpq_mat, xs: Sequence[int] | None = None)
         xs = first_points(count)
     if count == 0:
         return [bk.ZERO] * k
+    small = _small_standard_inverse(xs)
+    if small is not None:
+        numer, denom = values.numer_denom()
+        return _from_coefficient_columns(small[0] * numer, small[1] * denom, count, k)
     w = _weights(xs)
     if k <= _FEW_COLUMNS:
         return [
@@ -146,6 +152,40 @@ def interpolate_columns(values: flint.fmpq_mat, xs: Sequence[int] | None = None)
 
 
 _VANDERMONDE_INVERSES: dict[int, flint.fmpq_mat] = {}
+
+#: Interpolation at up to this many standard points (:func:`first_points`) is one product
+#: with the integer matrix ``D·V⁻¹`` (cached: 2.3 ms to build at 33 points, 25 ms at 65).
+#: Measured against the subproduct tree of :func:`_lagrange_sum` for one column of 20-bit
+#: values: 6 against 58 µs at 17 points (the determinant of an 8×8 of degree 2), 18 against
+#: 187 µs at 33; of 2000-bit values, 25 against 103 µs and 79 against 348 µs.
+SMALL_INVERSE_POINTS = 33
+
+_SMALL_INVERSES: dict[int, tuple[flint.fmpz_mat, flint.fmpz]] = {}
+
+
+def _small_standard_inverse(xs: Sequence[int]) -> tuple[flint.fmpz_mat, flint.fmpz] | None:
+    """``(D·V⁻¹, D)`` with V the Vandermonde matrix of ``xs`` and D the least common
+    denominator of V⁻¹, when ``xs`` are the first ``SMALL_INVERSE_POINTS`` or fewer of the
+    standard points (:func:`first_points`); else None.  A cache of constants: results never
+    depend on it."""
+    count = len(xs)
+    if count > SMALL_INVERSE_POINTS:
+        return None
+    got = _SMALL_INVERSES.get(count)
+    if got is None:
+        if list(xs) != first_points(count):
+            return None
+        numer, denom = _vandermonde_inverse(xs).numer_denom()
+        got = _SMALL_INVERSES[count] = (numer, denom)
+        return got
+    return got if list(xs) == first_points(count) else None
+
+
+def _from_coefficient_columns(c: flint.fmpz_mat, denom: flint.fmpz, count: int, k: int) -> list[flint.fmpq_poly]:
+    """The k polynomials whose coefficient vectors (constant term first) are the columns
+    of ``c / denom`` (count rows)."""
+    entries = c.entries()
+    return [flint.fmpq_poly([entries[e * k + j] for e in range(count)], denom) for j in range(k)]
 
 
 def _vandermonde_inverse(xs: Sequence[int]) -> flint.fmpq_mat:
@@ -191,10 +231,22 @@ def det_at(coeffs: Coefficients, x: int) -> flint.fmpq:
 
 
 def interpolate(xs: Sequence[int], ys: Sequence[flint.fmpq]) -> flint.fmpq_poly:
-    """The polynomial of degree < len(xs) through ``(xs[i], ys[i])`` (Lagrange by a
-    subproduct tree, :func:`_lagrange_sum`).  Precondition: the xs are distinct."""
+    """The polynomial of degree < len(xs) through ``(xs[i], ys[i])``: one product with a
+    cached integer matrix at few standard points (:func:`_small_standard_inverse`), else
+    Lagrange by a subproduct tree (:func:`_lagrange_sum`).  Precondition: the xs are
+    distinct.
+
+    >>> interpolate([0, 1, -1], [1, 3, 3])
+    2*x^2 + 1
+    >>> interpolate([5, 7], [1, 2])
+    1/2*x + (-3/2)
+    """
     if not xs:
         return bk.ZERO
+    small = _small_standard_inverse(xs)
+    if small is not None:
+        numer, denom = flint.fmpq_mat(len(xs), 1, ys).numer_denom()
+        return _from_coefficient_columns(small[0] * numer, small[1] * denom, len(xs), 1)[0]
     w = _weights(xs)
     return _lagrange_sum(xs, [flint.fmpq(y) / wi for y, wi in zip(ys, w, strict=True)])[0]
 
@@ -204,6 +256,7 @@ def minor_degree_bound(a: dn.Rows, m: int, n: int, k: int) -> int:
     k largest row degrees and of the k largest column degrees."""
     if k <= 0:
         return 0
-    rd = sorted((max(dn.row_degree(r), 0) for r in a), reverse=True)
-    cd = sorted((max(dn.row_degree([r[j] for r in a]), 0) for j in range(n)), reverse=True)
+    degrees = [[p.degree() for p in r] for r in a]
+    rd = sorted((max(max(r, default=0), 0) for r in degrees), reverse=True)
+    cd = sorted((max(max(c), 0) for c in zip(*degrees)), reverse=True) if m else []
     return min(sum(rd[:k]), sum(cd[:k]))

@@ -60,30 +60,37 @@ MAX_MINORS = 64
 
 
 def prefer_fraction_free(a: dn.Rows, n: int) -> bool:
-    """True when Bareiss over Z[δ] is expected to beat evaluation for an n-column matrix:
-    n ≤ 8, or entries of degree ≥ n/2 — unless the coefficients are large,
-    ``n·bits ≥ max(64·deg, 2048)``, where each evaluation point costs one integer
-    determinant (:func:`~uio_ring.ring._evaluation.det_at`) and Bareiss' products swell.
+    """True when Bareiss over Z[δ] is expected to beat evaluation for an n-column matrix of
+    δ-degree d whose last row has coefficients of b bits: ``n⁴·b < 1024·d²`` (high degree,
+    small coefficients), or b ≤ 12 and 2d ≥ n, or n ≤ 3 and b ≤ 256.
 
-    Measured (one core, random integer entries in [−3, 3]; seconds Bareiss / evaluation):
-    degree 2 — n = 8: 0.0003 / 0.0005, n = 16: 0.0036 / 0.0020, n = 32: 0.12 / 0.018;
-    degree 16 — n = 4: 0.0002 / 0.0019, n = 16: 0.047 / 0.14; degree 64, n = 4: 0.0005 / 0.062.
-    Large coefficients (time of Bareiss over evaluation): n = 4, degree 8 — 256 bits 0.72,
-    1024 bits 2.0; n = 8, degree 32 — 64 bits 0.70, 256 bits 1.65, 1024 bits 4.6; n = 12,
-    degree 64 — 256 bits 1.5, 1024 bits 3.9; a compressed 8×8 minor of degree 103 with
-    4.2-kbit coefficients (an observability matrix's): 4.6 s / 2.7 s.
-    Large rational coefficients at large n and low degree (the compressed minors of the
-    design of a 32-state system of degree 1) stay with evaluation: Bareiss took 250 s there."""
+    Evaluation takes one integer determinant per point (n·d + 1 points,
+    :func:`~uio_ring.ring._evaluation.det_at`), whose numbers grow with n·b; Bareiss
+    multiplies polynomials of degree up to n·d, whose number of operations grows like n³ and
+    whose coefficients swell with n·b.  The rule is a least-squares fit of the time ratio
+    on a grid of random integer n×n (n = 4 … 16, d = 1 … 32, b = 3 … 1025; one core; time
+    of Bareiss over evaluation): it picks the faster path on 259 of 280 cells and loses at
+    most 2.1× elsewhere (n = 5, d = 32, b = 1025).  For example n = 8, d = 2: 1.9 at 3 bits,
+    3.1 at 65 bits; n = 4, d = 16: 0.05 at 3 bits, 1.6 at 1025 bits; n = 16, d = 8: 0.80 at
+    3 bits, 4.1 at 17 bits; n = 3, d = 2: 0.59 at 3 bits, 0.65 at 65 bits, 1.3 at 1025 bits.
+    The fit misses structured matrices whose determinant has a far lower degree than its
+    bound n·d (the Bareiss minors stay small): the second clause keeps Bareiss for the
+    products of unimodular matrices and a Smith form of the ring benchmark (n = 8, d = 6,
+    9 bits: 0.40 of the time; n = 12, d = 6, 11 bits: 0.56), and on the grid it picks
+    Bareiss at 3 bits and 2d ≥ n (0.53 … 1.07).
+    (Before: Bareiss whenever n ≤ 8 or 2d ≥ n with n·b < 2048, which lost up to 4× on 82
+    cells.)  On the observability minors of a design: a compressed 8×8 minor of degree 103
+    with 4.2-kbit coefficients, 4.6 s against 2.7 s; large rational coefficients at large n
+    and low degree (the compressed minors of the design of a 32-state system of degree 1):
+    Bareiss took 250 s."""
     # the size from the last row only (a heuristic, and both paths are exact; the rows of
     # the observability matrices grow downwards): scanning every entry cost a quarter of
     # a 4×4 determinant
     bits = max((bk.bits(p) for p in a[-1] if p), default=0)
-    if n > 8 and n * bits < 2048:
-        return 2 * dn.mat_degree(a) >= n
-    if n * bits < 2048:
+    if n <= 3 and bits <= 256:
         return True
     deg = dn.mat_degree(a)
-    return (n <= 8 or 2 * deg >= n) and n * bits < 64 * deg
+    return n**4 * bits < 1024 * deg * deg or (bits <= 12 and 2 * deg >= n)
 
 
 def integer_rows(a: dn.Rows) -> tuple[IntRows, flint.fmpz]:
