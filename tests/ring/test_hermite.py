@@ -395,3 +395,57 @@ def test_pivot_ties_by_small_leading_coefficient_give_the_same_forms(M):
         out.append((a, u, pivots))
     assert out[0] == out[1]
     assert PolyMatrix._new(out[1][1], m, m, M.var) @ M == PolyMatrix._new(out[1][0], m, n, M.var)
+
+
+@given(st.data())
+def test_wide_hermite_through_the_pivot_block_equals_the_elimination(data):
+    """A wide M of full row rank: H = U·M with U from the Hermite form of the block of its
+    pivot columns, read at a point.  The same H, U and pivots as the elimination, or None
+    (rank-deficient rows, or a point where a column falls into the span of the earlier
+    ones); hermite itself takes that path from 6 rows on."""
+    import importlib
+
+    hm = importlib.import_module("uio_ring.ring.hermite")
+    m = data.draw(st.integers(1, 4))
+    n = data.draw(st.integers(m + 1, m + 3))
+    M = data.draw(st.one_of(dense_matrices(rows=m, cols=n, max_degree=2),
+                            rank_deficient_matrices(rows=m, cols=n)))
+    ref = hm.hermite_by_elimination(M)
+    got = hm._hermite_by_pivot_block(M)
+    if got is not None:
+        assert (got.H, got.U, got.rank, got.pivots) == (ref.H, ref.U, ref.rank, ref.pivots)
+    else:  # only when no point has rank m, or the first that has gives other pivots
+        full = [x for x in (0, 1, -1) if M.eval(x).rank() == m]
+        assert ref.rank < m or not full or _column_profile(M.eval(full[0])) != ref.pivots
+
+
+def _column_profile(E: PolyMatrix) -> tuple[int, ...]:
+    """The columns of a constant matrix that raise the rank of the columns before them."""
+    out: list[int] = []
+    for j in range(E.cols):
+        if E[:, 0 : j + 1].rank() > len(out):
+            out.append(j)
+    return tuple(out)
+
+
+def test_wide_pivot_block_checks_the_pivots_it_read_at_a_point():
+    import importlib
+
+    hm = importlib.import_module("uio_ring.ring.hermite")
+    # the first column vanishes at 0, 1 and −1: the points give J = [1], but M's pivot is 0
+    M = PolyMatrix("[[d**3 - d, 1]]")
+    assert hm._hermite_by_pivot_block(M) is None
+    assert hermite(M).pivots == (0,)
+    # rank 1 at every point for rows that are proportional
+    assert hm._hermite_by_pivot_block(PolyMatrix("[[1, d, 0], [2, 2*d, 0]]")) is None
+
+
+@heavy()
+@given(st.integers(6, 7).flatmap(lambda m: dense_matrices(rows=m, cols=m + 1, max_degree=3, rational=False)))
+def test_wide_hermite_at_the_pivot_block_sizes(M):
+    import importlib
+
+    hm = importlib.import_module("uio_ring.ring.hermite")
+    r = hermite(M)
+    ref = hm.hermite_by_elimination(M)
+    assert (r.H, r.U, r.rank, r.pivots) == (ref.H, ref.U, ref.rank, ref.pivots)

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import flint
 
 from uio_ring.ring import _dense as dn
+from uio_ring.ring import _evaluation as ev
 from uio_ring.ring import _integral as zi
 from uio_ring.ring._echelon import (
     CoefficientGrowth,
@@ -179,6 +180,10 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 rank=n,
                 pivots=tuple(range(n)),
             )
+    if 0 < m < n and m >= GENERIC_MIN_SIZE and m * dn.mat_degree(M._r) >= WIDE_BLOCK_MIN_DEGREES:
+        wide = _hermite_by_pivot_block(M)
+        if wide is not None:
+            return wide
     few_rows = 0 < m < TOEPLITZ_MIN_ROWS
     if few_rows:
         # pairwise xgcd steps when U is unique (square, nonsingular: proved by M(0)), and
@@ -193,6 +198,55 @@ def hermite(M: PolyMatrix) -> HermiteResult:
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
+
+
+#: Wide M (rows < columns) of full row rank go through the square block of their pivot
+#: columns (:func:`_hermite_by_pivot_block`) from ``GENERIC_MIN_SIZE`` rows and
+#: rows·δ-degree ``≥ WIDE_BLOCK_MIN_DEGREES`` on.  Measured against the elimination on
+#: random m×n with coefficients in [−3, 3] (ms, elimination / block): 6×7 of degree 2,
+#: 1.3 / 1.6, of degree 4, 6.3 / 4.4, of degree 8, 66 / 20; 8×9 of degree 1, 1.7 / 1.9, of
+#: degree 2, 6.0 / 4.6, of degree 8, 869 / 98; 12×13 of degree 4, 1150 / 204.  Below 6
+#: rows the square block takes the pairwise path, slower at high degree (5×6 of degree 8:
+#: 19 / 32).
+WIDE_BLOCK_MIN_DEGREES = 16
+
+
+def _hermite_by_pivot_block(M: PolyMatrix, tries: int = 3) -> HermiteResult | None:
+    """Hermite form of a wide M (m < n) of full row rank through the square block of its
+    pivot columns, or None.
+
+    The pivot columns J are read from the rank profile of M(x) at the first ``tries``
+    points x where M(x) has rank m (:func:`~uio_ring.ring._evaluation.points`; exact
+    rational rows).  The block ``M_J`` is then nonsingular; its Hermite form
+    ``U·M_J = H_J`` (a square path of :func:`hermite`, fast by evaluation and
+    interpolation) gives ``H = U·M``, which is M's Hermite form exactly when every row i
+    of H is zero before column ``J[i]`` — checked here (a point where a column drops into
+    the span of the earlier ones would give a J that is not M's; then None).  U is unique
+    (M has full row rank), so the result is the elimination's.  Measured on the wide 7×8
+    of δ-degree 16 whose Hermite form is C̄ in Zheng et al.'s step 3 (a random 8-state
+    spec with 7 outputs): 0.25 s against 7.0 s for the elimination, whose remainders swell
+    to 4.3-kbit coefficients before the reduction.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix([["d", 1, 0, 1], [1, "d", 1, 0], [0, 1, "d", 1]])
+    >>> r = _hermite_by_pivot_block(M)
+    >>> r.pivots, r.H == hermite_by_elimination(M).H, r.U @ M == r.H
+    ((0, 1, 2), True, True)
+    """
+    m, n = M.shape
+    coeffs = ev.coefficient_mats(M._r, m, n)
+    for x in ev.first_points(tries):
+        rref, rank = ev.evaluate(coeffs, x).rref()
+        if rank == m:
+            break
+    else:
+        return None
+    J = [next(j for j in range(n) if rref[i, j] != 0) for i in range(m)]
+    block = hermite(PolyMatrix._new([[row[j] for j in J] for row in M._r], m, m, M.var))
+    H = dn.matmul(block.U._r, M._r, m, m, n)
+    if any(H[i][j] for i in range(m) for j in range(J[i])):
+        return None
+    return HermiteResult(PolyMatrix._new(H, m, n, M.var), block.U, m, tuple(J))
 
 
 def _zero_columns(M: PolyMatrix) -> list[int]:
