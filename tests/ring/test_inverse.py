@@ -337,3 +337,37 @@ def test_left_unimodular_proof_completed_exactly_when_not_column_reduced(text):
         assert not left_unimodular_proved(R._r, 3, 2, cheap_only=True)
     finally:
         _predicates.EXACT_MINORS_BUDGET = budget
+
+
+def test_one_exact_compressed_minor_is_enough_when_its_degree_survives_mod_p(monkeypatch):
+    """Not column reduced (the modular proof says nothing) and the top minor over its budget:
+    one exact compressed minor, whose degree survives modulo p, and the other one reduced
+    mod p prove it; the second exact determinant is never computed."""
+    from uio_ring.ring import _predicates
+    from uio_ring.ring._predicates import coprime_maximal_minors
+
+    M = PolyMatrix("[[d + 1, d], [d, d - 1], [1, 1]]")
+    assert not coprime_maximal_minors(M._r, 3, 2, exact=False)
+    monkeypatch.setattr(_predicates, "TOP_MINOR_BUDGET", 0)
+    calls = []
+    real = _predicates.det_raw
+    monkeypatch.setattr(_predicates, "det_raw", lambda a, n: calls.append(n) or real(a, n))
+    assert coprime_maximal_minors(M._r, 3, 2)
+    assert calls == [2]
+
+
+@given(st.integers(1, 3).flatmap(lambda n: st.one_of(
+    dense_matrices(rows=n + 1, cols=n, max_degree=2),
+    unimodular_matrices(n + 1, max_degree=2).map(lambda U: U[:, 0:n]))))
+def test_compressed_minor_proofs_are_sound_without_the_top_minor(M):
+    from uio_ring.ring import _predicates
+    from uio_ring.ring._predicates import coprime_maximal_minors
+
+    budget = _predicates.TOP_MINOR_BUDGET
+    try:
+        _predicates.TOP_MINOR_BUDGET = 0
+        proved = coprime_maximal_minors(M._r, M.rows, M.cols)
+    finally:
+        _predicates.TOP_MINOR_BUDGET = budget
+    event(f"proved={proved}")
+    assert proved == is_left_unimodular(M)
