@@ -234,8 +234,8 @@ def test_remainder_rows_subtracts_module_elements_and_is_reduced(B0, Y, shift):
             assert _module(PolyMatrix.vstack(B, diff)) == _module(B)
         else:
             assert diff.is_zero()
-        d, j = dn.leading_position(got._r[i])
-        assert j < 0 or j not in lead or lead[j][j].degree() > d  # nothing left to divide
+        # the Popov normal form: every entry of a pivot column below that pivot's degree
+        assert all(got._r[i][j].degree() < b[j].degree() for j, b in lead.items())
         assert got[i, :].degree() <= X[i, :].degree()
 
 
@@ -276,3 +276,9 @@ def test_modular_coprimality_refuses_an_unattained_bound_and_a_common_factor():
     B = PolyMatrix("[[d + 1, 0], [0, d - 1]]")
     assert not coprime_dets_mod_p(B._r, PolyMatrix("[[d**2 - 1]]")._r, 2, k2=1)
     assert coprime_dets_mod_p(B._r, PolyMatrix("[[d**2 + 1]]")._r, 2, k2=1)
+
+
+def test_remainder_rows_reduces_every_pivot_column():
+    # the leading position of x (column 0) is no pivot, yet its pivot-column entry δ² is
+    # reduced: the Popov normal form, not only the leading term
+    assert remainder_rows(PolyMatrix("[[d**3, d**2 + 1]]"), PolyMatrix("[[0, 2*d]]")) == PolyMatrix("[[d**3, 1]]")

@@ -40,6 +40,7 @@ import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring import _division as dv
 from uio_ring.ring._predicates import coprime_maximal_minors, minors_work
 from uio_ring.ring.errors import DimensionError
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
@@ -123,31 +124,19 @@ def _reduce_row(x: list[flint.fmpq_poly], lead: dict[int, list[flint.fmpz_poly]]
     return [bk.from_integer(p // content) for p in z]
 
 
-def _remainder(x: list[flint.fmpq_poly], lead: dict[int, list[flint.fmpq_poly]]) -> list[flint.fmpq_poly]:
-    """x minus ``q·b`` (q ∈ Q[δ] the quotient of the leading entries) while a basis row b
-    has the leading position j of x and ``deg b_j ≤ deg x_j`` (:func:`remainder_rows`)."""
-    z = list(x)
-    while True:
-        d, j = dn.leading_position(z)
-        b = lead.get(j)
-        if j < 0 or b is None or b[j].degree() > d:
-            return z
-        q = z[j] // b[j]
-        z = [zi - q * bi if not bi.is_zero() else zi for zi, bi in zip(z, b, strict=True)]
-
-
 def remainder_rows(rows: PolyMatrix, basis: PolyMatrix) -> PolyMatrix:
-    """Each row x of ``rows`` minus an element of L(basis), of lower degree where the
-    weak Popov ``basis`` allows: ``x ← x − q·b`` with q the quotient of ``x_j`` by
-    ``b_j`` over Q[δ], for the basis row b whose leading position is the leading
-    position j of x, while ``deg b_j ≤ deg x_j``.
+    """Each row x of ``rows`` reduced modulo L(basis): its Popov normal form ``x − q·P``,
+    P the Popov form of the weak Popov ``basis`` (same module, same pivot positions and
+    degrees), every entry of a pivot column below that pivot's degree.  Unique, and
+    ``x − (result) ∈ L(basis)`` exactly, with no unit factor (the rows keep their rational
+    scale, unlike :func:`extend_row_basis`): for callers that need that.
 
-    Unlike :func:`extend_row_basis` the rows keep their rational scale (no primitive
-    integer row): callers that need ``x − (result) ∈ L(basis)`` exactly, with no unit
-    factor, use this.  Termination: b's leading position is j, so ``deg b_i ≤ deg b_j``
-    for ``i < j`` and ``< deg b_j`` for ``i > j``; after the step ``deg x_j < deg b_j``
-    and the entries right of j stay below ``d = deg x_j``, so the pair (row degree,
-    leading position) decreases — at most ``n·(deg x + 1)`` steps of n products each.
+    Algorithm: one matrix division by P (:func:`~uio_ring.ring._division.reduce_modulo_popov`;
+    the quotient is the polynomial part of ``x_π·P_π⁻¹``, P_π the pivot columns) — k² + k·n
+    products per row instead of one pass over the row per removed leading term.  On the
+    w-step of a random 8-state spec with 8 outputs at δ-degree 16 (4 rows of degree 62 with
+    6.2-kbit coefficients modulo a basis of degree 32): 0.43 s against 21 s for the
+    leading-term reduction of earlier versions, which gave the same rows there.
     Precondition: ``basis`` is in weak Popov form (not checked).
 
     >>> remainder_rows(PolyMatrix("[[d, d**2 + 1]]"), PolyMatrix("[[0, d]]"))
@@ -155,8 +144,11 @@ def remainder_rows(rows: PolyMatrix, basis: PolyMatrix) -> PolyMatrix:
     >>> remainder_rows(PolyMatrix("[[d**3, 2*d**2]]"), PolyMatrix("[[2*d, 1]]"))
     PolyMatrix([[0, 3*d**2/2]])
     """
-    lead = {dn.leading_position(r)[1]: list(r) for r in basis._r}
-    out = [_remainder(list(r), lead) for r in rows._r]
+    if not basis.rows:
+        return PolyMatrix._new(dn.copy(rows._r), rows.rows, rows.cols, rows.var)
+    popov = dn.copy(basis._r)
+    dn.popov(popov)
+    out = dv.reduce_modulo_popov(rows._r, popov)
     return PolyMatrix._new(out, rows.rows, rows.cols, rows.var)
 
 
