@@ -116,7 +116,10 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     (:mod:`uio_ring.ring._reduce`).  They then try the certified
     evaluation/interpolation path of :mod:`uio_ring.ring._generic` (generic
     shape ``[[I, h], [0, det]]``, adj M interpolated, ``U = H·adj M / det``;
-    O(n⁴·deg) rational operations in C).  When ``rank M < rows`` (tall or
+    O(n⁴·deg) rational operations in C).  Wide M of full row rank (at least
+    ``GENERIC_MIN_SIZE`` rows, rows·δ-degree ≥ ``WIDE_BLOCK_MIN_DEGREES``): the Hermite
+    form of the square block of its pivot columns, read at a point and checked, gives U
+    and ``H = U·M`` (:func:`_hermite_by_pivot_block`).  When ``rank M < rows`` (tall or
     rank-deficient M) and M has at least ``TOEPLITZ_MIN_ROWS`` rows or a δ-degree above
     ``ELIMINATION_MAX_DEGREE``: the elimination below while its coefficients stay small
     (low degree only); else, when ``H = [I; 0]`` (two compressed
