@@ -258,5 +258,5 @@ def minor_degree_bound(a: dn.Rows, m: int, n: int, k: int) -> int:
         return 0
     degrees = [[p.degree() for p in r] for r in a]
     rd = sorted((max(max(r, default=0), 0) for r in degrees), reverse=True)
-    cd = sorted((max(max(c), 0) for c in zip(*degrees)), reverse=True) if m else []
+    cd = sorted((max(max(c), 0) for c in zip(*degrees, strict=True)), reverse=True) if m else []
     return min(sum(rd[:k]), sum(cd[:k]))
