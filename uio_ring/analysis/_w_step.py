@@ -10,9 +10,9 @@ unimodular and ``F_{k+1}`` the Hermite form of ``S_k = [Δ_k B; F_k]``
   ``G_{k+1} = G_k`` and ``Δ_{k+1} = Δ_k A − Δ_k B·G_k`` — no Hermite form and no
   product with a transform.  When ``G_k = X·R`` came from a Hermite step
   ``[X; K]·S = [I; 0]`` (so ``X·S = I``, ``K·S = 0``, and ``K·R`` were that step's
-  w-free rows), ``Δ_k B·X`` is first reduced modulo a weak Popov basis of L(K)
-  (:func:`~uio_ring.ring.row_basis.remainder_rows`): ``Δ_{k+1} = Δ_k A − u·R`` with
-  ``u = Δ_k B·X − t·K``.  This changes ``Δ_{k+1}`` by ``t·(K·R)``, a combination of
+  w-free rows), ``Δ_k B·X`` is first reduced modulo L(K), given by a weak Popov
+  basis (its Popov normal form, :func:`~uio_ring.ring.row_basis.remainder_rows`):
+  ``Δ_{k+1} = Δ_k A − u·R`` with ``u = Δ_k B·X − t·K``.  This changes ``Δ_{k+1}`` by ``t·(K·R)``, a combination of
   rows already in the row module of ``N_k`` — which, by the argument in
   :mod:`uio_ring.analysis.observability`, changes neither the later row modules nor
   their invariant factors.  It is what keeps the coefficients small: X is a
