@@ -340,15 +340,15 @@ def test_left_unimodular_proof_completed_exactly_when_not_column_reduced(text):
 
 
 def test_one_exact_compressed_minor_is_enough_when_its_degree_survives_mod_p(monkeypatch):
-    """Not column reduced (the modular proof says nothing) and the top minor over its budget:
-    one exact compressed minor, whose degree survives modulo p, and the other one reduced
-    mod p prove it; the second exact determinant is never computed."""
+    """Not column reduced (the modular proof says nothing) and a top minor of zero: one exact
+    compressed minor, whose degree survives modulo p, and the other one reduced mod p prove
+    it; the second exact determinant is never computed."""
     from uio_ring.ring import _predicates
     from uio_ring.ring._predicates import coprime_maximal_minors
 
-    M = PolyMatrix("[[d + 1, d], [d, d - 1], [1, 1]]")
+    M = PolyMatrix("[[d + 1, d], [2*d + 2, 2*d], [1, 1]]")  # rows 1 and 3: minor 1
+    assert is_left_unimodular(M)
     assert not coprime_maximal_minors(M._r, 3, 2, exact=False)
-    monkeypatch.setattr(_predicates, "TOP_MINOR_BUDGET", 0)
     calls = []
     real = _predicates.det_raw
     monkeypatch.setattr(_predicates, "det_raw", lambda a, n: calls.append(n) or real(a, n))
@@ -363,11 +363,40 @@ def test_compressed_minor_proofs_are_sound_without_the_top_minor(M):
     from uio_ring.ring import _predicates
     from uio_ring.ring._predicates import coprime_maximal_minors
 
-    budget = _predicates.TOP_MINOR_BUDGET
+    top = _predicates._coprime_with_the_top_minor
     try:
-        _predicates.TOP_MINOR_BUDGET = 0
+        _predicates._coprime_with_the_top_minor = lambda *args: False
         proved = coprime_maximal_minors(M._r, M.rows, M.cols)
     finally:
-        _predicates.TOP_MINOR_BUDGET = budget
+        _predicates._coprime_with_the_top_minor = top
     event(f"proved={proved}")
     assert proved == is_left_unimodular(M)
+
+
+@given(st.integers(1, 5).flatmap(lambda n: dense_matrices(rows=n, cols=n, max_degree=2)), st.data())
+def test_det_below_echelon_equals_the_determinant(M, data):
+    """First n − 1 rows put in echelon form (entries left of a chosen pivot zeroed): the
+    Schur-complement determinant equals det M; rows that are not in echelon form give None."""
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring._predicates import det_below_echelon
+
+    n = M.rows
+    a = dn.copy(M._r)
+    pivots = sorted(data.draw(st.lists(st.integers(0, n - 1), min_size=n - 1, max_size=n - 1, unique=True)))
+    for i, j in enumerate(pivots):
+        for c in range(j):
+            a[i][c] = a[i][c] * 0
+    E = PolyMatrix._new(a, n, n, "d")
+    got = det_below_echelon(a, n)
+    if all(not a[i][pivots[i]].is_zero() for i in range(n - 1)):
+        assert got is not None and PolyMatrix._new([[got]], 1, 1, "d")[0, 0] == E.det()
+    elif got is not None:  # a zero pivot: the rows may still be in echelon form elsewhere
+        assert PolyMatrix._new([[got]], 1, 1, "d")[0, 0] == E.det()
+
+
+def test_det_below_echelon_refuses_rows_out_of_echelon_form():
+    from uio_ring.ring._predicates import det_below_echelon
+
+    M = PolyMatrix("[[0, 1, d], [1, 0, 0], [d, 1, 1]]")
+    assert det_below_echelon(M._r, 3) is None
+    assert det_below_echelon(PolyMatrix("[[0, 0, 0], [1, 0, 0], [d, 1, 1]]")._r, 3) is None
