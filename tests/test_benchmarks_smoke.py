@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -79,3 +80,17 @@ def test_sage_required_but_missing_exits_2(tmp_path):
     proc = subprocess.run([sys.executable, str(BENCH), "--quick", "--sage", "--sage-python", missing],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and "not importable" in proc.stdout
+
+
+def test_small_cells_worker_times_every_cell_and_needs_sage_for_the_table():
+    import json
+
+    script = BENCH.parent / "bench_small_cells.py"
+    proc = subprocess.run([sys.executable, str(script), "--worker", "ours"],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    times = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert "rankdef 4 hermite" in times and all(t > 0 for t in times.values())
+    env = {k: v for k, v in os.environ.items() if k != "UIO_SAGE_PYTHON"}
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60, env=env)
+    assert proc.returncode == 2 and "--sage-python" in proc.stderr
