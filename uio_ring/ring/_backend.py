@@ -14,7 +14,7 @@ listed from the constant term upwards.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from fractions import Fraction
 
 import flint
@@ -51,6 +51,7 @@ __all__ = [
     "mat_det",
     "mat_entries",
     "IntPoly",
+    "denominator_lcm",
     "integer_row",
     "from_integer",
 ]
@@ -238,6 +239,21 @@ def mat_entries(a: flint.fmpq_mat) -> list[flint.fmpq]:
     return list(a.entries())
 
 
+def denominator_lcm(polys: Iterable[flint.fmpq_poly]) -> flint.fmpz:
+    """The least common multiple (> 0) of the denominators of ``polys``: the least c with
+    every ``c·p`` in Z[δ].
+
+    >>> int(denominator_lcm([from_coeffs([Fraction(1, 2)]), from_coeffs([0, Fraction(1, 3)]), ONE]))
+    6
+    """
+    den = flint.fmpz(1)
+    for p in polys:
+        q = p.denom()
+        if q != 1:
+            den = den * q // den.gcd(q)
+    return den
+
+
 def integer_row(row: Sequence[flint.fmpq_poly]) -> tuple[list[flint.fmpz_poly], flint.fmpz]:
     """``(c·row, c)`` with c > 0 the least common denominator of the row's coefficients:
     an integer row that spans the same Q[δ]-module (c is a unit of Q[δ]).
@@ -246,10 +262,7 @@ def integer_row(row: Sequence[flint.fmpq_poly]) -> tuple[list[flint.fmpz_poly], 
     >>> [p.coeffs() for p in z], int(c)
     ([[3], [0, 2]], 6)
     """
-    den = flint.fmpz(1)
-    for p in row:
-        q = p.denom()
-        den = den * q // den.gcd(q)
+    den = denominator_lcm(row)
     return [(p * den).numer() for p in row], den
 
 

@@ -61,14 +61,7 @@ def coefficient_mats(a: dn.Rows, m: int, n: int) -> Coefficients:
     pairs = [c.numer_denom() for c in mats]
     if all(d == 1 for _, d in pairs):
         return Coefficients([z for z, _ in pairs], [flint.fmpz(1)] * m, None)
-    dens = []
-    for row in a:
-        den = flint.fmpz(1)
-        for p in row:
-            q = p.denom()
-            if q != 1:
-                den = den * q // den.gcd(q)
-        dens.append(den)
+    dens = [bk.denominator_lcm(row) for row in a]
     scale = flint.fmpq_mat(m, m, [dens[i] if i == j else 0 for i in range(m) for j in range(m)])
     inverse = flint.fmpq_mat(m, m, [flint.fmpq(1, dens[i]) if i == j else 0
                                     for i in range(m) for j in range(m)])
@@ -169,16 +162,12 @@ def _small_standard_inverse(xs: Sequence[int]) -> tuple[flint.fmpz_mat, flint.fm
     standard points (:func:`first_points`); else None.  A cache of constants: results never
     depend on it."""
     count = len(xs)
-    if count > SMALL_INVERSE_POINTS:
+    if count > SMALL_INVERSE_POINTS or list(xs) != first_points(count):
         return None
     got = _SMALL_INVERSES.get(count)
     if got is None:
-        if list(xs) != first_points(count):
-            return None
-        numer, denom = _vandermonde_inverse(xs).numer_denom()
-        got = _SMALL_INVERSES[count] = (numer, denom)
-        return got
-    return got if list(xs) == first_points(count) else None
+        got = _SMALL_INVERSES[count] = _vandermonde_inverse(xs).numer_denom()
+    return got
 
 
 def _from_coefficient_columns(c: flint.fmpz_mat, denom: flint.fmpz, count: int, k: int) -> list[flint.fmpq_poly]:
@@ -231,10 +220,8 @@ def det_at(coeffs: Coefficients, x: int) -> flint.fmpq:
 
 
 def interpolate(xs: Sequence[int], ys: Sequence[flint.fmpq]) -> flint.fmpq_poly:
-    """The polynomial of degree < len(xs) through ``(xs[i], ys[i])``: one product with a
-    cached integer matrix at few standard points (:func:`_small_standard_inverse`), else
-    Lagrange by a subproduct tree (:func:`_lagrange_sum`).  Precondition: the xs are
-    distinct.
+    """The polynomial of degree < len(xs) through ``(xs[i], ys[i])``: one column of
+    :func:`interpolate_columns`.  Precondition: the xs are distinct.
 
     >>> interpolate([0, 1, -1], [1, 3, 3])
     2*x^2 + 1
@@ -243,12 +230,7 @@ def interpolate(xs: Sequence[int], ys: Sequence[flint.fmpq]) -> flint.fmpq_poly:
     """
     if not xs:
         return bk.ZERO
-    small = _small_standard_inverse(xs)
-    if small is not None:
-        numer, denom = flint.fmpq_mat(len(xs), 1, ys).numer_denom()
-        return _from_coefficient_columns(small[0] * numer, small[1] * denom, len(xs), 1)[0]
-    w = _weights(xs)
-    return _lagrange_sum(xs, [flint.fmpq(y) / wi for y, wi in zip(ys, w, strict=True)])[0]
+    return interpolate_columns(flint.fmpq_mat(len(xs), 1, list(ys)), xs)[0]
 
 
 def minor_degree_bound(a: dn.Rows, m: int, n: int, k: int) -> int:

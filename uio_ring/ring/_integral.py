@@ -60,11 +60,7 @@ def to_integer_rows(a: dn.Rows) -> tuple[IntRows, list[flint.fmpz] | None]:
     out: IntRows = []
     scales: list[flint.fmpz] = []
     for row in a:
-        den = _ONE
-        for e in row:
-            q = e.denom()
-            if q != 1:
-                den = den * q // den.gcd(q)
+        den = bk.denominator_lcm(row)
         scales.append(den)
         out.append([e.numer() if den == 1 else (e * den).numer() for e in row])
     return out, (scales if any(c != 1 for c in scales) else None)

@@ -120,14 +120,7 @@ class ToeplitzCoefficients:
 
 def _column_scale(a: dn.Rows, m: int, n: int) -> list[flint.fmpz]:
     """c_l = lcm of the denominators of the coefficients in column l."""
-    scale = []
-    for col in range(n):
-        c = flint.fmpz(1)
-        for j in range(m):
-            q = a[j][col].denom()
-            c = c * q // c.gcd(q)
-        scale.append(c)
-    return scale
+    return [bk.denominator_lcm(a[j][col] for j in range(m)) for col in range(n)]
 
 
 def _toeplitz_entries(mi: IntCoeffs, m: int, n: int, dm: int, D: int, mod: int | None) -> list[int]:

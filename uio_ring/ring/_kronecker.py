@@ -39,15 +39,6 @@ __all__ = ["matmul_kronecker", "scaled_numerator"]
 Rows = list[list[flint.fmpq_poly]]
 
 
-def _lcm_denominators(polys: list[flint.fmpq_poly]) -> flint.fmpz:
-    c = flint.fmpz(1)
-    for p in polys:
-        q = p.denom()
-        if q != 1:
-            c = c * q // c.gcd(q)
-    return c
-
-
 def scaled_numerator(p: flint.fmpq_poly, c: flint.fmpz) -> flint.fmpz_poly:
     """``p·c`` for a multiple c of the denominator of p, as an integer polynomial: the
     numerator times ``c / den`` (an exact quotient), without the content gcd that the
@@ -158,8 +149,8 @@ def matmul_kronecker(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
 def _matmul_packed(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     """:func:`matmul_kronecker` on all indices.  Precondition: shapes fit, m, k, n ≥ 1
     (not checked)."""
-    row_scale = [_lcm_denominators(a[i]) for i in range(m)]
-    col_scale = [_lcm_denominators([b[t][j] for t in range(k)]) for j in range(n)]
+    row_scale = [bk.denominator_lcm(a[i]) for i in range(m)]
+    col_scale = [bk.denominator_lcm(b[t][j] for t in range(k)) for j in range(n)]
     an = [[scaled_numerator(a[i][t], row_scale[i]) for t in range(k)] for i in range(m)]
     bn = [[scaled_numerator(b[t][j], col_scale[j]) for j in range(n)] for t in range(k)]
     da = max((p.degree() for r in an for p in r), default=-1)

@@ -45,6 +45,7 @@ __all__ = [
     "is_smith_raw",
     "coprime_maximal_minors",
     "det_not_constant_mod_p",
+    "det_below_echelon",
     "left_unimodular_proved",
     "minors_work",
 ]

@@ -218,9 +218,9 @@ def _hermite_by_pivot_block(M: PolyMatrix, tries: int = 3) -> HermiteResult | No
     """Hermite form of a wide M (m < n) of full row rank through the square block of its
     pivot columns, or None.
 
-    The pivot columns J are read from the rank profile of M(x) at the first ``tries``
-    points x where M(x) has rank m (:func:`~uio_ring.ring._evaluation.points`; exact
-    rational rows).  The block ``M_J`` is then nonsingular; its Hermite form
+    The pivot columns J are read from the rank profile of M(x) at the first of the points
+    0, 1, −1, … (``tries`` of them, :func:`~uio_ring.ring._evaluation.points`; exact
+    rational rows) where M(x) has rank m.  The block ``M_J`` is then nonsingular; its Hermite form
     ``U·M_J = H_J`` (a square path of :func:`hermite`, fast by evaluation and
     interpolation) gives ``H = U·M``, which is M's Hermite form exactly when every row i
     of H is zero before column ``J[i]`` — checked here (a point where a column drops into
