@@ -417,6 +417,16 @@ _FIND_SAGE = ("import importlib.util, sys\n"
               "sys.exit(1)\n")
 
 
+def flint_is_stable_abi() -> bool:
+    """python-flint is a stable-ABI (abi3) build: every call into it costs about 3x more
+    than with a version-specific build (python-flint 0.9.0 on CPython < 3.13)."""
+    try:
+        from flint.types import fmpq_poly
+    except ImportError:
+        return False
+    return ".abi3." in os.path.basename(getattr(fmpq_poly, "__file__", "") or "")
+
+
 def sage_available(sage_python: str | None = None) -> bool:
     """SageMath importable in this interpreter, or (``sage_python``) in that one."""
     if sage_python is None:
@@ -886,6 +896,8 @@ def main(argv: list[str] | None = None) -> int:
             versions.append(f"{mod} {__import__(mod).__version__}")
         except Exception:
             versions.append(f"{mod} ?")
+    if flint_is_stable_abi():
+        versions.append("flint: a stable-ABI (abi3) build, ~3x slower per small operation (see pyproject.toml)")
     try:  # a script's directory, not the working directory, leads sys.path: say which copy runs
         versions.append(f"uio_ring from {os.path.dirname(__import__('uio_ring').__file__)}")
     except Exception:

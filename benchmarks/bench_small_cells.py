@@ -75,14 +75,26 @@ def main() -> int:
         print("bench_small_cells: give --sage-python (or $UIO_SAGE_PYTHON): an interpreter with passagemath",
               file=sys.stderr)
         return 2
+    sys.path.insert(0, str(HERE))
+    import flint
+    from bench_ring import flint_is_stable_abi, sage_available
+
+    if not sage_available(args.sage_python):
+        print(f"bench_small_cells: {args.sage_python} cannot import SageMath (install passagemath-flint and "
+              "passagemath-modules there)", file=sys.stderr)
+        return 2
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE.parent), os.environ.get("PYTHONPATH", "")]))
     runs: dict[str, list[dict[str, float]]] = {"ours": [], "sage": []}
     for _ in range(args.rounds):
         for lib, python in (("sage", args.sage_python), ("ours", sys.executable)):
-            got = subprocess.run([python, __file__, "--worker", lib], env=env, check=True,
-                                 capture_output=True, text=True)
+            got = subprocess.run([python, __file__, "--worker", lib], env=env, capture_output=True, text=True)
+            if got.returncode:
+                print(f"bench_small_cells: the {lib} worker failed:\n{got.stderr.strip()}", file=sys.stderr)
+                return 1
             runs[lib].append(json.loads(got.stdout.strip().splitlines()[-1]))
-    print(f"# sub-millisecond cells, {args.rounds} interleaved rounds, best CPU time per library")
+    build = " (a stable-ABI build: ~3x slower per small operation)" if flint_is_stable_abi() else ""
+    print(f"# sub-millisecond cells, {args.rounds} interleaved rounds, best CPU time per library; "
+          f"python-flint {flint.__version__}{build}")
     print(f"{'cell':26s} {'ours [µs]':>10s} {'sage [µs]':>10s} {'sage/ours':>9s}  per round")
     for key in runs["ours"][0]:
         ours = min(r[key] for r in runs["ours"])
