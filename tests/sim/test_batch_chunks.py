@@ -1,7 +1,14 @@
-"""simulate_batch in chunks of scenarios, and the chunks on threads: the same numbers, bit for bit."""
+"""simulate_batch in chunks of scenarios, and the chunks on threads: the same numbers to rounding.
+
+Not bit for bit: the BLAS may round a row of a product by the number of rows around it
+(OpenBLAS 0.3.31, numpy 2.4: ``X[:K] @ A`` differs in the last bit of its last row when K is
+odd) and by its thread setting at start-up.  The comparisons are ~10⁴ ulps of each
+scenario's scale; a chunk that ran the wrong scenarios, in the wrong order or on the wrong
+path differs by O(1)."""
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import os
 import threading
@@ -39,13 +46,33 @@ def _scenarios(K, perturb=False):
                      plant=perturbed_plant(base, 0.05, k) if perturb else None) for k in range(K)]
 
 
-def _assert_identical(a, b):
+#: Agreement asked of two runs of the same scenarios, relative to each scenario's scale.
+REL = 1e-12
+
+
+def _assert_agree(a, b):
+    """x, y, x̂, ŵ and every metric of the two results agree to rounding, scenario by scenario:
+    values within ``REL`` of the scenario's largest |value| (of that signal; of the peak error for
+    the metrics), times (convergence, peak, divergence) equal, and NaN where the other is NaN."""
     for name in ("x", "y", "x_hat", "w_hat"):
         va, vb = getattr(a, name), getattr(b, name)
-        assert (va is None and vb is None) or np.array_equal(va, vb), name
+        if va is None or vb is None:
+            assert va is None and vb is None, name
+            continue
+        assert va.shape == vb.shape, name
+        axes = tuple(range(1, va.ndim))
+        scale = np.maximum(np.max(np.abs(va), axis=axes), 1e-300)
+        assert np.all(np.max(np.abs(va - vb), axis=axes) <= REL * scale), name
     assert set(a.metrics) == set(b.metrics) == set(METRICS)
+    peak = a.metrics["peak"]
     for name in METRICS:
-        assert np.array_equal(a.metrics[name], b.metrics[name], equal_nan=True), name
+        ma, mb = a.metrics[name], b.metrics[name]
+        assert np.array_equal(np.isnan(ma), np.isnan(mb)), name
+        ok = ~np.isnan(ma)
+        if name.startswith("t_"):
+            assert np.array_equal(ma[ok], mb[ok]), name
+        else:
+            assert np.all(np.abs(ma[ok] - mb[ok]) <= REL * peak[ok]), name
 
 
 def test_chunk_bounds_cover_the_scenarios_in_order(monkeypatch):
@@ -68,11 +95,11 @@ def test_chunk_bounds_cover_the_scenarios_in_order(monkeypatch):
 
 @pytest.mark.parametrize("kernel", KERNELS)
 @pytest.mark.parametrize(("dt", "perturb"), [(2.5e-4, False), (1e-3, False), (1e-3, True)])
-def test_chunked_batch_is_bit_identical(zb, kernel, dt, perturb, monkeypatch):
+def test_chunked_batch_agrees_with_one_chunk(zb, kernel, dt, perturb, monkeypatch):
     """K = 37 in chunks of ≤ 10 (10, 9, 9, 9; MIN_CHUNK = 8, the linear recursion's threshold) against
-    one chunk: x, y, x̂ and every metric bit-identical (each scenario is computed by the same
-    operations whatever the others: numpy's products over the K axis and the compiled loops round
-    each row alike); one plant, or one per scenario."""
+    one chunk: x, y, x̂ and every metric agree to rounding (each scenario is computed by the same
+    operations whatever the others; the BLAS may still round a row by the rows around it); one
+    plant, or one per scenario.  The comparison sees a scenario out of place."""
     sc = _scenarios(37, perturb)
     kw = dict(t_final=0.06, dt=dt, trajectories=True, segment_steps=120, kernel=kernel)
     one = simulate_batch(zb, sc, **kw)
@@ -83,11 +110,14 @@ def test_chunked_batch_is_bit_identical(zb, kernel, dt, perturb, monkeypatch):
     monkeypatch.setattr(batch._Run, "chunk", lambda self, s, *a: sizes.append(len(s)) or run_chunk(self, s, *a))
     cut = simulate_batch(zb, sc, **kw)
     assert sizes == [10, 9, 9, 9]
-    _assert_identical(one, cut)
+    _assert_agree(one, cut)
+    swapped = dataclasses.replace(cut, x=cut.x[[1, 0] + list(range(2, 37))])
+    with pytest.raises(AssertionError, match="x"):
+        _assert_agree(one, swapped)
 
 
 @needs_numba
-def test_chunked_injection_observer_is_bit_identical(monkeypatch):
+def test_chunked_injection_observer_agrees_with_one_chunk(monkeypatch):
     """An observer with Levant differentiators stepped by the compiled loop (implicit chain equations):
     K = 52 in two chunks of 26, and K = 9 in chunks of ≤ 4, against one chunk (in Python it is never
     cut: test_python_injection_steps_are_one_chunk)."""
@@ -107,14 +137,14 @@ def test_chunked_injection_observer_is_bit_identical(monkeypatch):
         monkeypatch.setattr(batch, "CHUNK", chunk)
         monkeypatch.setattr(batch, "MIN_CHUNK", low)
         sizes.clear()
-        _assert_identical(one, simulate_batch(nf, sc[:K], **kw))
+        _assert_agree(one, simulate_batch(nf, sc[:K], **kw))
         assert sizes == cut
 
 
 @pytest.mark.parametrize("kernel", KERNELS)
-def test_chunks_on_threads_are_bit_identical(zb, kernel, monkeypatch):
+def test_chunks_on_threads_agree_with_one_thread(zb, kernel, monkeypatch):
     """UIO_RING_THREADS=2: the chunks run on two threads of a pool (recorded), results in scenario
-    order, bit-identical to one thread."""
+    order, the same numbers as one thread to rounding."""
     if (os.cpu_count() or 1) < 2:
         pytest.skip("one core: no second thread")
     sc = _scenarios(50)
@@ -129,7 +159,7 @@ def test_chunks_on_threads_are_bit_identical(zb, kernel, monkeypatch):
     two = simulate_batch(zb, sc, **kw)
     assert sorted(n for n, _ in seen) == [25, 25]
     assert all(t != threading.main_thread().ident for _, t in seen)
-    _assert_identical(one, two)
+    _assert_agree(one, two)
 
 
 def test_python_injection_steps_are_one_chunk(monkeypatch):
@@ -153,7 +183,7 @@ def test_no_chunks_with_on_segment_or_feedback(zb, monkeypatch):
     sc = _scenarios(5)
     res = simulate_batch(zb, sc, t_final=0.03, dt=1e-3, on_segment=lambda s: widths.append(s.x.shape[1]))
     assert widths and set(widths) == {5}
-    _assert_identical(res, simulate_batch(zb, sc, t_final=0.03, dt=1e-3))
+    _assert_agree(res, simulate_batch(zb, sc, t_final=0.03, dt=1e-3))
 
 
 def test_batch_threads_reads_the_environment(monkeypatch):

@@ -65,8 +65,10 @@ def test_delay_mismatch_on_two_dask_workers(tmp_path, cluster):
     e = np.max(np.abs(r.error), axis=0)
     for _, row in t[t["h_true"] == 0.01].iterrows():
         assert row["peak"] == pytest.approx(e.max(), rel=1e-10)
-        assert row["final"] == pytest.approx(e[-1], rel=1e-8)
-        assert row["max_settled"] == pytest.approx(e[r.t >= 1 - 1e-12].max(), rel=1e-8)
+        # the error decays by six orders: rounding of the peak's order (the batch and one run round
+        # their products differently) is compared with the peak, not with the small final value
+        assert row["final"] == pytest.approx(e[-1], rel=1e-8, abs=1e-12 * e.max())
+        assert row["max_settled"] == pytest.approx(e[r.t >= 1 - 1e-12].max(), rel=1e-8, abs=1e-12 * e.max())
     med = t.groupby("h_true")["max_settled"].median()
     assert med[0.01] < med[0.011] / 5 and np.all(np.diff(med.to_numpy()) > 0)
     local = sweep(f, out=tmp_path / "local", workers=1, formats=["parquet"]).table
@@ -137,7 +139,8 @@ def _dies_on_chunk_1(task):
 
 def test_a_chunk_whose_worker_always_dies_is_rows_with_the_reason(tmp_path):
     """Only that chunk is charged (it is found by running the chunks left one at a time); the
-    others complete and match the one-worker table."""
+    others complete and match the one-worker table (to rounding: a process started with
+    OPENBLAS_NUM_THREADS=1, as after a dask cluster, rounds some products differently)."""
     from uio_ring.sweeps.runner import _run_local
 
     f = _mismatch(tmp_path)
@@ -153,7 +156,7 @@ def test_a_chunk_whose_worker_always_dies_is_rows_with_the_reason(tmp_path):
     one = sweep(f, out=tmp_path / "one", workers=1, formats=["parquet"]).table
     for c in (0, 2, 3):
         for r in rows[c]:
-            assert r["peak"] == one.loc[one["run"] == r["run"], "peak"].item()
+            assert r["peak"] == pytest.approx(one.loc[one["run"] == r["run"], "peak"].item(), rel=1e-12)
 
 
 def test_noise_gain_is_the_design_figure(tmp_path):

@@ -16,7 +16,8 @@ The same switch selects the compiled linear loops of ``simulate_batch``
 recursions, scenario-innermost; :mod:`uio_ring.numeric.linear_kernel`: other observers' taps,
 time-major) and its metrics (:mod:`uio_ring.numeric.metrics_kernel`).  Threads
 (``UIO_RING_THREADS``, default 1) run whole chunks of a batch's scenarios
-(:func:`uio_ring.sim.batch.chunk_bounds`), with the same numbers for any thread count.
+(:func:`uio_ring.sim.batch.chunk_bounds`), with the same numbers for any thread count up to
+rounding (the BLAS may round a row of a product by the rows around it).
 
 ``"numba"`` asked for explicitly without numba installed is an error naming the extra.
 The two backends agree up to rounding (the sliding modes amplify last-bit differences).
