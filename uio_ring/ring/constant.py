@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from fractions import Fraction
-from typing import Any
+from typing import Any, TypeAlias
 
 import flint
 
@@ -49,7 +49,7 @@ __all__ = [
     "solve_by_peeling",
 ]
 
-QMat = flint.fmpq_mat
+QMat: TypeAlias = flint.fmpq_mat
 
 
 def frac(q: Any) -> Fraction:
