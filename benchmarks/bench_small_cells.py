@@ -32,7 +32,8 @@ CELLS = [
     ("random", 4, "hermite"), ("random", 4, "det"), ("rankdef", 4, "hermite"), ("smith", 4, "hermite"),
     ("tall", 4, "hermite"), ("tall", 4, "left_inverse"), ("tall", 8, "hermite"), ("tall", 8, "left_inverse"),
     ("paper001", 6, "hermite"), ("paper001", 6, "left_kernel"), ("highdeg", 16, "hermite"),
-    ("highdeg", 64, "det"), ("highdeg", 128, "det"),
+    ("highdeg", 32, "hermite"), ("highdeg", 32, "det"), ("highdeg", 64, "det"), ("highdeg", 128, "det"),
+    ("highdeg", 256, "det"),
 ]
 
 
