@@ -24,6 +24,7 @@ import select
 import signal
 import sys
 import time
+import warnings
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -176,7 +177,12 @@ class _Heartbeat:
             return self
         sys.stderr.flush()
         read, write = os.pipe()
-        pid = os.fork()
+        with warnings.catch_warnings():
+            # Python ≥ 3.12 warns on forking a process with threads (here BLAS's): the child
+            # only reads a pipe and writes stderr, and is killed at the end of the block, so
+            # a lock it inherited held can cost heartbeat lines, never a hang
+            warnings.simplefilter("ignore", DeprecationWarning)
+            pid = os.fork()
         if pid == 0:  # the child: print until the pipe closes, then leave without cleanup
             try:
                 os.close(write)
