@@ -104,16 +104,17 @@ def test_charpoly_of_a_hidden_block_triangular_matrix(blocks, rnd):
 
 
 def test_the_observer_matrix_splits_into_its_channels():
-    """L0 = A0 − G0 C0 of the delay UIO of Zheng et al. §5 is block companion: r = 2 channels
-    of l* = 3 states, each one strongly connected component; its charpoly is the requested
-    Π(s − p_i)^r."""
+    """L0 = A0 − G0 C0 of the delay UIO of Zheng et al. §5 is block companion: its r channels of
+    l* states are its strongly connected components (r and l* depend on the design's choices: they
+    are read from it), and its charpoly is the requested Π(s − p_i)^r."""
     from design import paper001
 
     from uio_ring import design_zheng_bejarano
 
     d = design_zheng_bejarano(paper001.system(), poles=[-10, -25, -50])
     n = d.L0.rows
+    assert n == d.r * d.l_star and d.r >= 2
     succ = [[j for j in range(n) if j != i and not d.L0[i, j].is_zero()] for i in range(n)]
-    assert sorted(len(c) for c in strong_components(n, succ)) == [3, 3]
+    assert sorted(len(c) for c in strong_components(n, succ)) == [d.l_star] * d.r
     s = Poly.gen("s")
-    assert charpoly(d.L0) == ((s + 10) * (s + 25) * (s + 50)) ** 2
+    assert charpoly(d.L0) == ((s + 10) * (s + 25) * (s + 50)) ** d.r
