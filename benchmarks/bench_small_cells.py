@@ -23,6 +23,7 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))  # bench_ring, beside this script
 
 #: the seed of bench_ring.py's default cases
 SEED = 20261123
@@ -39,7 +40,6 @@ CELLS = [
 
 def time_cells(library: str) -> dict[str, float]:
     """Best seconds per cell for ``library`` ("ours" or "sage") in this interpreter."""
-    sys.path.insert(0, str(HERE))
     import bench_ring as br
 
     cases = br.build_cases([4, 8], SEED, max_n=8)
@@ -76,7 +76,6 @@ def main() -> int:
         print("bench_small_cells: give --sage-python (or $UIO_SAGE_PYTHON): an interpreter with passagemath",
               file=sys.stderr)
         return 2
-    sys.path.insert(0, str(HERE))
     import flint
     from bench_ring import flint_is_stable_abi, sage_available
 
