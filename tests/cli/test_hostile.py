@@ -243,12 +243,60 @@ def test_existing_outputs_are_not_overwritten_without_force(work, capsys):
     assert (work / "out" / "small.json").read_text() == "mine"
     (work / "out" / "small.json").unlink()
     (work / "out" / "small.yaml").unlink()
+    (work / "d.tex").write_text("mine")
     code, _, err = run(capsys, "design", "spec.yaml", "--out", "out", "--latex", "d.tex")
     assert_refused(code, err, "--latex")
-    assert not (work / "out" / "small.json").exists()  # refused before any work: nothing written
+    assert "other content" in err and (work / "d.tex").read_text() == "mine"
+    assert not (work / "out" / "small.json").exists()  # refused before anything is written
     code, _, err = run(capsys, "design", "spec.yaml", "--out", "out", "--latex", "d.tex", "--force")
     assert code == 0, err
-    assert set(files_under(work)) == set(written)
+    assert {p: p.read_bytes() for p in files_under(work)} == written
+
+
+def test_design_files_with_the_same_bytes_are_left_as_they_are(work, capsys):
+    """design, then simulate (or design again) in one folder: the design's files are the
+    run's own bytes, so nothing is replaced and the run goes on; the CSV and PNG of an earlier
+    simulation are still refused before any work."""
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    assert run(capsys, "design", "spec.yaml", "--out", "out", "--latex", "d.tex")[0] == 0
+    design_files = ["out/small.json", "out/small.yaml", "d.tex"]
+    before = {name: ((work / name).read_bytes(), (work / name).stat().st_mtime_ns) for name in design_files}
+    code, out, err = run(capsys, "design", "spec.yaml", "--out", "out", "--latex", "d.tex")
+    assert code == 0, err
+    assert "wrote" not in out and "unchanged" in out and "small.json" in out
+    code, out, err = run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress")
+    assert code == 0, err
+    assert "wrote out/small.csv, out/small.png" in out.replace("\\", "/")
+    assert {name: ((work / name).read_bytes(), (work / name).stat().st_mtime_ns) for name in design_files} == before
+    assert not [p for p in (work / "out").iterdir() if p.name.startswith(".")]  # no temporary file left
+    code, _, err = run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress")
+    assert_refused(code, err, "--out")
+    assert "small.csv" in err and "already exist" in err
+
+
+@pytest.mark.parametrize("kind", ["other bytes", "symlink", "fifo"])
+def test_a_design_file_that_would_change_refuses_the_simulation(work, capsys, kind):
+    """With other bytes (or not a regular file) at a design file's path, simulate is refused
+    once the design is known: before simulating, with nothing written and nothing read from a FIFO."""
+    (work / "spec.yaml").write_text(spec(), encoding="utf-8")
+    assert run(capsys, "design", "spec.yaml", "--out", "out")[0] == 0
+    target = work / "out" / "small.json"
+    if kind == "other bytes":
+        target.write_bytes(target.read_bytes().replace(b"}", b"} ", 1))
+    elif kind == "symlink":  # a link to the very same bytes is still not this run's file
+        (work / "copy.json").write_bytes(target.read_bytes())
+        target.unlink()
+        target.symlink_to(work / "copy.json")
+    else:
+        if not hasattr(os, "mkfifo"):
+            pytest.skip("no FIFOs on this platform")
+        target.unlink()
+        os.mkfifo(target)
+    before = files_under(work)
+    code, _, err = run(capsys, "simulate", "spec.yaml", "--out", "out", "--no-progress")
+    assert_refused(code, err, "--out")
+    assert "small.json" in err and ("other content" in err) == (kind == "other bytes")
+    assert files_under(work) == before  # no CSV, no PNG, no temporary file
 
 
 def test_latex_naming_a_folder_is_refused(work, capsys):

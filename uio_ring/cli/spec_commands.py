@@ -7,6 +7,11 @@ Files: everything is written under the output folder (``--out``, else the
 spec's ``output.directory`` inside the spec's folder, else
 ``uio-ring-out/<name>``), under names made from the spec's safe ``name``.
 Existing files are not replaced unless ``--force`` (checked before any work).
+The design's own files (JSON, YAML, LaTeX), which ``design`` and ``simulate``
+both write, may exist when they hold exactly the bytes the run would write: they
+are left as they are, so ``simulate`` after ``design`` in one folder works; with
+other bytes the run is refused as soon as the design is known, before the
+simulation and before anything is written.
 All files of a run are written under temporary names and renamed at the end,
 so a failed or interrupted run leaves none.  A design whose certificate fails
 is reported (exit 1) and **not written**; a simulation that produces
@@ -79,7 +84,8 @@ def add_parser(sub: Any) -> None:
 def _output_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="DIR", help="output directory (default: the spec's output.directory, else ./uio-ring-out/<spec name>)")
     p.add_argument("--quiet", action="store_true", help="print only the summary")
-    p.add_argument("--force", action="store_true", help="overwrite existing output files (refused otherwise)")
+    p.add_argument("--force", action="store_true",
+                   help="overwrite existing output files (refused otherwise; design files with the same bytes are kept)")
 
 
 def _out_dir(args: argparse.Namespace, spec: Any) -> Path:
@@ -91,8 +97,15 @@ def _out_dir(args: argparse.Namespace, spec: Any) -> Path:
     return Path("uio-ring-out") / (spec.name or "design")
 
 
-def _outputs(args: argparse.Namespace, spec: Any, suffixes: list[str], extra: list[Path] = ()) -> tuple[Any, Path]:  # type: ignore[assignment]
-    """The output folder checked before any work: (Outputs, stem)."""
+#: Suffixes of the design's own files, written alike by ``design`` and ``simulate``.
+DESIGN_SUFFIXES = (".json", ".yaml", ".tex")
+
+
+def _outputs(args: argparse.Namespace, spec: Any, suffixes: list[str], latex: Path | None = None) -> tuple[Any, Path]:
+    """The output folder checked before any work: (Outputs, stem).
+
+    The design's files (and the ``--latex`` file) are *shared*: they may exist with the
+    bytes this run would write (see :meth:`uio_ring.spec.files.Outputs.refuse_changed`)."""
     from uio_ring.errors import SpecError
     from uio_ring.spec.files import Outputs
 
@@ -101,9 +114,10 @@ def _outputs(args: argparse.Namespace, spec: Any, suffixes: list[str], extra: li
     where = "--out" if args.out is not None else ("output.directory" if spec.output.directory else None)
     out = Outputs(_out_dir(args, spec), force=args.force, where=where)
     stem = out.folder / (spec.name or "design")
-    targets = [stem.with_suffix(s) for s in suffixes] + list(extra)
+    targets = [stem.with_suffix(s) for s in suffixes]
     _never_the_spec(spec, targets, where)
-    out.prepare(targets)
+    shared = [t for t in targets if t.suffix in DESIGN_SUFFIXES] + ([latex] if latex is not None else [])
+    out.prepare(targets, shared=shared)
     return out, stem
 
 
@@ -125,7 +139,8 @@ def _never_the_spec(spec: Any, targets: list[Path], where: str | None) -> None:
             raise SpecError(f"{target} is the spec file itself; choose another --out or name", path=where)
 
 
-def _latex_target(args: argparse.Namespace) -> Path | None:
+def _latex_target(args: argparse.Namespace) -> tuple[Path, Any] | None:
+    """The ``--latex`` file checked before any work: (path, its Outputs, for :meth:`refuse_changed`)."""
     from uio_ring.errors import SpecError
     from uio_ring.spec.files import Outputs
 
@@ -137,9 +152,9 @@ def _latex_target(args: argparse.Namespace) -> Path | None:
     if path.is_dir():
         raise SpecError(f"{args.latex} is a folder; give a file name such as design.tex", path="--latex")
     check = Outputs(path.parent, force=args.force, where="--latex")
-    check.prepare([path])
+    check.prepare([path], shared=[path])
     check.cleanup()  # checked now; the folder is made again when the file is written
-    return path
+    return path, check
 
 
 def _rule(title: str) -> str:
@@ -375,8 +390,8 @@ def _run_design(args: argparse.Namespace) -> int:
     suffixes = {"json": ".json", "yaml": ".yaml", "latex": ".tex"}
     latex = _latex_target(args)
     if latex is not None:
-        _never_the_spec(spec, [latex], "--latex")
-    out, stem = _outputs(args, spec, [suffixes[f] for f in formats])  # before any work
+        _never_the_spec(spec, [latex[0]], "--latex")
+    out, stem = _outputs(args, spec, [suffixes[f] for f in formats], latex[0] if latex else None)  # before any work
     try:
         return _design_and_write(args, spec, out, stem, formats, latex)
     finally:
@@ -384,20 +399,39 @@ def _run_design(args: argparse.Namespace) -> int:
 
 
 def _design_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Path, formats: list[str], latex: Any) -> int:
-    from uio_ring.spec.designs import design_texts
-
     design, method, skipped = _design(spec)
     cert = design.certificate()
     _print_design(spec, design, method, skipped, cert, args.quiet)
     if not cert.ok:
         print("certificate FAILED: no design files written", file=sys.stderr)
         return 1
+    texts = _design_files(design, out, stem, formats)
+    if latex is not None:
+        path, check = latex
+        texts[path] = design.to_latex() + "\n"
+        check.refuse_changed({path: texts[path]})
     with out:
-        paths = [out.write_text(stem.with_suffix(suffix), text) for suffix, text in design_texts(design, formats).items()]
-        if latex is not None:
-            paths.append(out.write_text(latex, design.to_latex() + "\n"))
-    print("wrote " + ", ".join(str(p) for p in paths))
+        paths = [out.write_text(path, text) for path, text in texts.items()]
+    _print_written(out, paths)
     return 0
+
+
+def _design_files(design: Any, out: Any, stem: Path, formats: list[str]) -> dict[Path, str]:
+    """The design's files by path, refused now if one exists with other bytes (see the module docstring)."""
+    from uio_ring.spec.designs import design_texts
+
+    texts = {stem.with_suffix(suffix): text for suffix, text in design_texts(design, formats).items()}
+    out.refuse_changed(texts)
+    return texts
+
+
+def _print_written(out: Any, paths: list[Path]) -> None:
+    written = [str(p) for p in paths if p not in out.unchanged]
+    kept = [str(p) for p in paths if p in out.unchanged]
+    if written:
+        print("wrote " + ", ".join(written))
+    if kept:
+        print("unchanged (already there with the same content): " + ", ".join(kept))
 
 
 def _run_simulate(args: argparse.Namespace) -> int:
@@ -421,7 +455,6 @@ def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Pat
 
     from uio_ring.cli.stream import streamed
     from uio_ring.errors import NotObservableError, SpecError, UioRingError
-    from uio_ring.spec.designs import design_texts
     from uio_ring.spec.loader import check_memory_budget, recorded_values
 
     sim = spec.simulate
@@ -436,7 +469,7 @@ def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Pat
         print("certificate FAILED: not simulated, no files written", file=sys.stderr)
         return 1
     settle = float(sim.settle) if sim.settle is not None else float(sim.t_final) / 2
-    design_formats = [f for f in ("json", "yaml", "latex") if f in formats]
+    texts = _design_files(design, out, stem, [f for f in ("json", "yaml", "latex") if f in formats])
     try:
         with np.errstate(all="ignore"):  # overflow is reported once, by _accept below
             if stream:
@@ -450,8 +483,7 @@ def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Pat
         raise SpecError(str(exc), path="simulate") from None
     _accept(probe)
     with out:
-        paths = [out.write_text(stem.with_suffix(suffix), text)
-                 for suffix, text in design_texts(design, design_formats).items()]
+        paths = [out.write_text(path, text) for path, text in texts.items()]
         if stream:
             figures, result = _stream(args, design, spec, out, stem, formats, settle, paths)
         else:
@@ -470,7 +502,7 @@ def _simulate_and_write(args: argparse.Namespace, spec: Any, out: Any, stem: Pat
     if stream:
         line += " (streamed to disk)"
     print(line)
-    print("wrote " + ", ".join(str(p) for p in paths))
+    _print_written(out, paths)
     return 0
 
 

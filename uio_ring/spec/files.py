@@ -11,7 +11,10 @@
   folder and renames them all at the end.  A run that fails or is interrupted
   (Ctrl-C) leaves no partial file.  An existing file is never replaced unless
   ``force=True``; the check is made before any work, and again just before
-  the rename.
+  the rename.  The one exception is a *shared* file (a design's JSON, YAML or
+  LaTeX, which ``design`` and ``simulate`` both write): it may exist if it holds
+  exactly the bytes this run would write, and is then left as it is (nothing
+  is replaced); with other bytes the run is refused before anything is written.
 
 >>> safe_name("zheng2015", "name")
 'zheng2015'
@@ -129,11 +132,16 @@ class Outputs:
         self.where = where
         self._staged: list[tuple[Path, Path]] = []
         self._created: list[Path] = []
+        self._shared: set[Path] = set()
+        #: shared targets found holding the run's bytes already, so not written again
+        self.unchanged: list[Path] = []
 
     # -- checks before any work ----------------------------------------------------
-    def prepare(self, targets: list[Path]) -> None:
+    def prepare(self, targets: list[Path], *, shared: list[Path] = ()) -> None:  # type: ignore[assignment]
         """Check, before any work, that the folder is usable and no target exists (unless ``force``).
 
+        ``shared`` targets may exist: whether they would change is known only once
+        their text is, and :meth:`refuse_changed` checks it then.
         Missing folders are created and a probe file is written and removed, so an
         unwritable place (permissions, a read-only or virtual file system) is refused
         now, not after the work; :meth:`cleanup` removes the folders again when the
@@ -172,7 +180,8 @@ class Outputs:
             self.cleanup()
             reason = exc.strerror or str(exc)
             raise SpecError(f"cannot write into {_short(text)}: {reason}", path=self.where) from None
-        self.refuse_existing(targets)
+        self._shared = {Path(p) for p in shared}
+        self.refuse_existing([t for t in targets if Path(t) not in self._shared])
 
     def cleanup(self) -> None:
         """Remove the folders :meth:`prepare` created if the run wrote nothing into them."""
@@ -195,6 +204,36 @@ class Outputs:
                 path=self.where,
             )
 
+    def refuse_changed(self, texts: dict[Path, str]) -> None:
+        """Refuse (unless ``force``) when a shared target exists with other bytes than ``texts`` gives it.
+
+        Call it as soon as the texts are known, before the rest of the work.
+
+        >>> import tempfile
+        >>> folder = Path(tempfile.mkdtemp())
+        >>> (folder / "d.json").write_text("{}")
+        2
+        >>> out = Outputs(folder); out.prepare([folder / "d.json"], shared=[folder / "d.json"])
+        >>> out.refuse_changed({folder / "d.json": "{}"})  # the same bytes: accepted
+        >>> out.refuse_changed({folder / "d.json": "[]"})
+        Traceback (most recent call last):
+        ...
+        uio_ring.errors.SpecError: .../d.json already exists with other content; pass --force to overwrite, or choose another --out
+        """
+        if self.force:
+            return
+        changed = [p for p, text in texts.items() if os.path.lexists(p) and not _holds(p, text.encode("utf-8"))]
+        if changed:
+            shown = ", ".join(str(p) for p in changed[:3]) + (" …" if len(changed) > 3 else "")
+            one = len(changed) == 1
+            what = ("with other content" if all(_is_regular(p) for p in changed)
+                    else "and is not a regular file" if one else "and are not all regular files")
+            raise SpecError(
+                f"{shown} already exist{'s' if one else ''} {what}; "
+                "pass --force to overwrite, or choose another --out",
+                path=self.where,
+            )
+
     # -- staged writes ---------------------------------------------------------------
     def _temp(self, target: Path) -> Path:
         return target.with_name(f".{target.name}.{os.getpid()}.part")
@@ -212,7 +251,12 @@ class Outputs:
         return target
 
     def write_text(self, name: str | Path, text: str) -> Path:
-        return self.write_with(name, lambda p: p.write_text(text, encoding="utf-8"))
+        """Stage ``text`` (UTF-8) for ``name``; a shared file already holding it is left as it is."""
+        target, data = Path(name), text.encode("utf-8")  # bytes: the same on every platform
+        if not self.force and target in self._shared and _holds(target, data):
+            self.unchanged.append(target)
+            return target
+        return self.write_with(target, lambda p: p.write_bytes(data))
 
     def commit(self) -> list[Path]:
         """Rename every staged file to its name (refusing to replace one unless ``force``)."""
@@ -246,6 +290,27 @@ class Outputs:
         else:
             self.discard()  # also on KeyboardInterrupt: nothing half-written remains
         self.cleanup()
+
+
+def _is_regular(path: Path) -> bool:
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
+
+
+def _holds(path: Path, data: bytes) -> bool:
+    """True when ``path`` is a regular file (not a link, FIFO or device) holding exactly ``data``.
+
+    Its size is compared first, so no more than ``len(data)`` bytes are ever read."""
+    try:
+        info = os.lstat(path)
+        if not stat.S_ISREG(info.st_mode) or info.st_size != len(data):
+            return False
+        with open(path, "rb") as fh:
+            return fh.read(len(data) + 1) == data
+    except OSError:
+        return False
 
 
 def _short(text: str) -> str:
