@@ -157,3 +157,12 @@ def test_design_option_errors_name_the_design_section(tmp_path, capsys):
     assert main(["design", str(spec), "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert "design: input_bounds has 2 entries" in err and "Traceback" not in err
+
+
+def test_quiet_prints_the_summary_and_the_files_only(tmp_path, capsys):
+    """``--quiet``: the summary line and the files line, no report and no blank line before them."""
+    assert main(["design", str(EXAMPLES / "zheng2015.yaml"), "--out", str(tmp_path), "--quiet"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 2, lines
+    assert lines[0].startswith("zheng2015: method zheng-bejarano, certificate ok")
+    assert lines[1].startswith("wrote ") and "zheng2015.json" in lines[1]

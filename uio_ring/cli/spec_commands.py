@@ -357,7 +357,7 @@ def _print_design(spec: Any, design: Any, method: str, skipped: Any, cert: Any, 
         print(_performance_line(design, spec))
         print(_rule("certificate"))
         print(cert)
-    print()
+        print()
     line = f"{spec.name}: method {method}, certificate {'ok' if cert.ok else 'FAILED'}"
     if hasattr(design, "n_z"):
         line += f", n_z = {design.n_z}"
