@@ -18,8 +18,15 @@ from __future__ import annotations
 import os
 import sys
 import time
+from typing import Protocol
 
 LONG_RUN_STEPS = 2_000_000
+
+
+class Updater(Protocol):
+    """What a long loop reports to: :class:`Progress`, one of its parts, or an adapter."""
+
+    def update(self, done: int) -> None: ...
 
 
 def _interactive() -> bool:

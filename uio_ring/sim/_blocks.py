@@ -36,7 +36,7 @@ import threading
 import numpy as np
 
 from uio_ring.numeric.expint import LinearScan, phi_functions, stencil_weights
-from uio_ring.numeric.progress import Progress
+from uio_ring.numeric.progress import Updater
 
 __all__ = ["BlockIntegrator", "block_integrator", "block_stencils", "scan_rows", "tap_rows", "taps"]
 
@@ -355,7 +355,7 @@ class BlockIntegrator:
         return self.quadrature(Fin.reshape(S_ * B, self.N + 1, self.n)).reshape(S_, B, self.N, self.n)
 
     def run(
-        self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress, end_fix: np.ndarray | None = None
+        self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Updater, end_fix: np.ndarray | None = None
     ) -> None:
         """Fill ``X[K N + 1 + k N …]`` block by block, in place.
 
@@ -457,6 +457,7 @@ class StackedBlockIntegrator(BlockIntegrator):
     axis, so that every block product of :meth:`run` is one batched product
     ``X[s] @ M[s]`` over the S trajectories (the loop over the blocks is shared).
 
+    >>> from uio_ring.numeric.progress import Progress
     >>> A = np.array([[[[-1.0]], [[0.5]]], [[[-2.0]], [[0.25]]]])   # x' = a x + b x(t − 1), two plants
     >>> st = StackedBlockIntegrator(A, 4, 0.25)
     >>> X = np.zeros((2, 4 + 8 + 1, 1)); X[:, :5] = 1.0                # history x = 1 on [−1, 0]
@@ -523,7 +524,7 @@ class StackedBlockIntegrator(BlockIntegrator):
         raise NotImplementedError("quadrature: per plant (self.parts[s].quadrature)")
 
     def run(
-        self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Progress, end_fix: np.ndarray | None = None
+        self, X: np.ndarray, fin: np.ndarray, nblocks: int, progress: Updater, end_fix: np.ndarray | None = None
     ) -> None:
         """:meth:`BlockIntegrator.run` with one plant per trajectory: ``X``, ``fin`` and ``end_fix``
         have the leading axis S (one row per plant)."""
@@ -537,7 +538,7 @@ class StackedBlockIntegrator(BlockIntegrator):
             part.run(X[s_], fin[s_], nblocks, progress, end_fix=None if end_fix is None else end_fix[s_])
         return None
 
-    def _run_scan(self, Xb: np.ndarray, fb: np.ndarray, nblocks: int, progress: Progress,
+    def _run_scan(self, Xb: np.ndarray, fb: np.ndarray, nblocks: int, progress: Updater,
                   end_fix: np.ndarray | None) -> None:
         """Per block: the forcing of its N steps for every plant at once (delayed part from the
         window, input part from the quadrature of all blocks), then the N steps

@@ -193,7 +193,8 @@ def _evaluator(node: Node) -> Callable[[Any, dict[str, Any], Any], Any]:
 
     program = _program(node)
     binary = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power}
-    functions = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None)) for name in FUNCTIONS}
+    functions: dict[str, Any] = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None))
+                                 for name in FUNCTIONS}
 
     def run(t: Any, env: dict[str, Any], like: Any) -> Any:
         stack: list[Any] = []

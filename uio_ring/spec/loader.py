@@ -546,8 +546,9 @@ def _read_system(data: dict[str, Any]) -> Any:
         ("unknown_inputs", m, "unknown inputs (columns of B)"),
         ("known_inputs", E.cols if E is not None else (F.cols if F is not None else 0), "known inputs"),
     ):
-        if names[key] is not None and len(names[key]) != count:
-            raise SpecError(f"{len(names[key])} names given for {count} {what}", path=f"system.{key}")
+        given = names[key]
+        if given is not None and len(given) != count:
+            raise SpecError(f"{len(given)} names given for {count} {what}", path=f"system.{key}")
     try:
         return DelaySystem(
             A,
@@ -580,7 +581,7 @@ def _read_design(data: dict[str, Any]) -> DesignSpec:
     if method != "auto":
         return DesignSpec(method=method, options=METHODS[method].read_options(raw))
     # auto: every key must belong to some method; each is read by the first method that has it
-    owners = {}
+    owners: dict[str, Any] = {}
     for m in METHODS.values():
         for opt in m.options:
             owners.setdefault(opt.name, opt)
