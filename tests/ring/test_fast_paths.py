@@ -235,6 +235,94 @@ def test_smith_high_degree(k):
     assert s.invariant_factors == (g, (M.det() // g).monic())
 
 
+# ----------------------------------------------------------------------------
+# small square matrices of high degree: the elimination while it stays small, then
+# evaluation and interpolation (``generic_first``), then the elimination without cap
+# ----------------------------------------------------------------------------
+smith_module = importlib.import_module("uio_ring.ring.smith")
+
+
+def _spy_generic(monkeypatch) -> list[bool]:
+    """Record, for each call of generic_hermite by hermite or smith, whether it succeeded."""
+    calls: list[bool] = []
+    real = hermite_module.generic_hermite
+
+    def spy(a, n):
+        got = real(a, n)
+        calls.append(got is not None)
+        return got
+
+    monkeypatch.setattr(hermite_module, "generic_hermite", spy)
+    monkeypatch.setattr(smith_module, "generic_hermite", spy)
+    return calls
+
+
+def _unimodular(rng: random.Random, n: int) -> PolyMatrix:
+    """L·R, L unit lower and R unit upper triangular with entries of degree ≤ 1."""
+    def entry():
+        return f"({rng.randint(-2, 2)}) + ({rng.randint(-2, 2)})*d"
+
+    L = PolyMatrix([[1 if i == j else (entry() if j < i else 0) for j in range(n)] for i in range(n)])
+    R = PolyMatrix([[1 if i == j else (entry() if j > i else 0) for j in range(n)] for i in range(n)])
+    return L @ R
+
+
+@pytest.mark.parametrize("n,deg", [(3, 16), (4, 8), (5, 4)])
+def test_small_square_of_high_degree_takes_the_generic_path(monkeypatch, n, deg):
+    """Random entries swell the elimination past its cap: the generic path answers, with
+    the elimination's H and U (U = H·M⁻¹ is unique) and a Smith form from the same H."""
+    M = random_matrix(random.Random(n * 100 + deg), n, n, deg)
+    calls = _spy_generic(monkeypatch)
+    h = hermite(M)
+    assert calls == [True]
+    e = hermite_by_elimination(M)
+    assert (h.H, h.U) == (e.H, e.U)
+    s = smith(M)
+    assert calls == [True, True]
+    assert s.U @ M @ s.V == s.S and is_smith(s.S)
+    assert_unimodular(s.U, n)
+    assert_unimodular(s.V, n)
+    assert s.S == smith_module.smith_by_elimination(M).S
+    assert s.S[n - 1, n - 1] == M.det().monic()
+
+
+def test_small_square_of_high_degree_with_small_coefficients_stays_in_the_elimination(monkeypatch):
+    """A product of unimodular factors and diag(1, 1, δ+1, (δ+1)(δ−2)) keeps its
+    coefficients small: the capped elimination answers, the generic path is not tried."""
+    rng = random.Random(4)
+    S = PolyMatrix.diag(1, 1, "d + 1", "(d + 1)*(d - 2)")
+    M = _unimodular(rng, 4) @ _unimodular(rng, 4) @ S @ _unimodular(rng, 4) @ _unimodular(rng, 4)
+    assert hermite_module.generic_first(M._r, 4)  # high degree: the generic path would be tried
+    calls = _spy_generic(monkeypatch)
+    h, s = hermite(M), smith(M)
+    assert calls == []
+    assert (h.H, h.U) == (hermite_by_elimination(M).H, hermite_by_elimination(M).U)
+    assert s.U @ M @ s.V == s.S and s.S == S
+    assert_unimodular(s.U, 4)
+    assert_unimodular(s.V, 4)
+
+
+@pytest.mark.parametrize("at_zero", [True, False])
+def test_small_square_that_swells_and_is_not_generic(monkeypatch, at_zero):
+    """Random entries of high degree times diag(1, 1, δ+1, δ+1) (or δ·(δ+1) in the last
+    place, so that M(0) is singular): the capped elimination swells, the generic shape fails
+    (two non-trivial invariant factors), and the elimination without cap (or, without a
+    nonsingular M(0), the Toeplitz path) gives the unique H and U."""
+    A = random_matrix(random.Random(8), 4, 4, 8)
+    M = A @ PolyMatrix.diag(1, 1, "d + 1", "d + 1" if at_zero else "d**2 + d")
+    calls = _spy_generic(monkeypatch)
+    h = hermite(M)
+    assert calls == [False]
+    e = hermite_by_elimination(M)
+    assert (h.H, h.U) == (e.H, e.U) and h.U @ M == h.H
+    s = smith(M)
+    assert calls == [False, False]
+    assert s.U @ M @ s.V == s.S and is_smith(s.S)
+    assert s.S == smith_module.smith_by_elimination(M).S
+    assert_unimodular(s.U, 4)
+    assert_unimodular(s.V, 4)
+
+
 def test_xgcd_step_keeps_divisible_pivots():
     """A constant pivot must not trade places with the other row (the Smith passes
     would alternate for ever)."""

@@ -36,6 +36,8 @@ __all__ = [
     "generic_solve_left",
     "GENERIC_MIN_SIZE",
     "GENERIC_MIN_SIZE_FACTORS",
+    "GENERIC_MIN_WORK",
+    "generic_first",
 ]
 
 #: Hermite/Smith with transforms: below this size elimination is as fast
@@ -43,6 +45,27 @@ __all__ = [
 GENERIC_MIN_SIZE = 6
 #: Invariant factors alone: the generic path wins from n = 4 (0.11 vs 0.16 ms, degree 2).
 GENERIC_MIN_SIZE_FACTORS = 4
+#: Below ``GENERIC_MIN_SIZE``, from n = 3 on, the generic path also goes first when
+#: ``n³·deg ≥ GENERIC_MIN_WORK``: 3×3 from δ-degree 14, 4×4 from 6, 5×5 from 3.  The
+#: elimination's remainders swell with the degree (random entries in [−3, 3], ms,
+#: elimination / generic Hermite with U): 3×3 of degree 12 0.76 / 1.25, 16 2.5 / 2.4, 24
+#: 12.6 / 7.4; 4×4 of degree 4 0.36 / 0.41, 6 1.23 / 0.90, 16 41 / 9.8, 32 781 / 52;
+#: 5×5 of degree 2 0.35 / 0.34, 3 0.86 / 0.55, 16 462 / 32, 32 11 524 / 165, 64 329 439 /
+#: 4265.  At 2×2 the pairwise extended gcd stays faster at every degree (degree 64: 1.3 /
+#: 20.5).
+GENERIC_MIN_WORK = 375
+
+
+def generic_first(rows: dn.Rows, n: int) -> bool:
+    """Whether a square n×n matrix tries the generic path before elimination (see
+    ``GENERIC_MIN_SIZE`` and ``GENERIC_MIN_WORK``).
+
+    >>> generic_first([[flint.fmpq_poly([1] * 7)] * 4] * 4, 4), generic_first([[flint.fmpq_poly([0, 1])] * 4] * 4, 4)
+    (True, False)
+    """
+    if n >= GENERIC_MIN_SIZE:
+        return True
+    return n >= 3 and n**3 * dn.mat_degree(rows) >= GENERIC_MIN_WORK
 
 
 def _sample(a: dn.Rows, n: int, count: int, need_inverse: bool):

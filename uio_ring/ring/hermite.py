@@ -31,7 +31,7 @@ from uio_ring.ring._echelon import (
     reduce_transform,
     row_echelon,
 )
-from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_hermite
+from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_first, generic_hermite
 from uio_ring.ring._kernel_basis import TOEPLITZ_MIN_ROWS, popov_left_kernel, solve_reduced
 from uio_ring.ring._predicates import (
     coprime_maximal_minors,
@@ -116,7 +116,10 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     (:mod:`uio_ring.ring._reduce`).  They then try the certified
     evaluation/interpolation path of :mod:`uio_ring.ring._generic` (generic
     shape ``[[I, h], [0, det]]``, adj M interpolated, ``U = H·adj M / det``;
-    O(n⁴·deg) rational operations in C).  Wide M of full row rank (at least
+    O(n⁴·deg) rational operations in C).  Smaller square matrices of high degree
+    (from 3×3, ``n³·deg ≥ GENERIC_MIN_WORK``: 4×4 from degree 6) take the same two paths
+    when the elimination below outgrows its cap (``ELIMINATION_BITS``): a 5×5 of degree 32
+    with entries in [−3, 3], 0.15 s against 11.5 s for the elimination.  Wide M of full row rank (at least
     ``GENERIC_MIN_SIZE`` rows, rows·δ-degree ≥ ``WIDE_BLOCK_MIN_DEGREES``): the Hermite
     form of the square block of its pivot columns, read at a point and checked, gives U
     and ``H = U·M`` (:func:`_hermite_by_pivot_block`).  When ``rank M < rows`` (tall or
@@ -161,28 +164,15 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     """
     M = require_matrix(M, "hermite")
     m, n = M.shape
-    var = M.var
     zero_columns = _zero_columns(M)
     if zero_columns and len(zero_columns) < n:
         return _with_zero_columns(hermite(_without_columns(M, zero_columns)), zero_columns, n)
     singular = False
-    if m == n >= GENERIC_MIN_SIZE:
-        det = det_raw(M._r, n)
-        singular = det.is_zero()  # then neither of the two paths below applies
-        reduced = None if singular else degree_reduced(M._r, n, track=True, det=det)
-        if reduced is not None:  # H(M) = H(W M) and U = U_R W
-            R, W = reduced
-            res = hermite(PolyMatrix._new(R, n, n, var))
-            return HermiteResult(res.H, res.U @ PolyMatrix._new(W or [], n, n, var), res.rank, res.pivots)
-        got = None if singular else generic_hermite(M._r, n)
+    generic = m == n and generic_first(M._r, n)
+    if generic and n >= GENERIC_MIN_SIZE:
+        got, singular = _hermite_square_generic(M)
         if got is not None:
-            H, U, _ = got
-            return HermiteResult(
-                H=PolyMatrix._new(H, n, n, var),
-                U=PolyMatrix._new(U, n, n, var),
-                rank=n,
-                pivots=tuple(range(n)),
-            )
+            return got
     if 0 < m < n and m >= GENERIC_MIN_SIZE and m * dn.mat_degree(M._r) >= WIDE_BLOCK_MIN_DEGREES:
         wide = _hermite_by_pivot_block(M)
         if wide is not None:
@@ -190,17 +180,51 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     few_rows = 0 < m < TOEPLITZ_MIN_ROWS
     if few_rows:
         # pairwise xgcd steps when U is unique (square, nonsingular: proved by M(0)), and
-        # no cap then (there is no other path); else the cap of high degrees
+        # no cap then (there is no other path) unless the generic path is worth a try
+        # (small and of high degree); else the cap of high degrees
         pairwise = m == n <= PAIRWISE_MAX_ROWS and full_rank_at_zero(M._r, m, n)
-        small = _hermite_by_small_elimination(M, xgcd_rows=m if pairwise else 2, capped=False if pairwise else None)
+        capped = True if generic else (False if pairwise else None)
+        small = _hermite_by_small_elimination(M, xgcd_rows=m if pairwise else 2, capped=capped)
         if small is not None:
             return small
+        if generic:  # the elimination swelled: evaluation and interpolation, else no cap
+            got, singular = _hermite_square_generic(M)
+            if got is not None:
+                return got
+            if pairwise:
+                small = _hermite_by_small_elimination(M, xgcd_rows=m, capped=False)
+                if small is not None:
+                    return small
     if m > 0:
         fast = _hermite_by_toeplitz(M, singular=singular, min_rows=0 if few_rows else None,
                                     eliminate_first=not few_rows)
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
+
+
+def _hermite_square_generic(M: PolyMatrix) -> tuple[HermiteResult | None, bool]:
+    """The square paths by evaluation and interpolation: ``(result or None, M singular)``.
+
+    A nonsingular M whose row degrees add up to more than ``deg det`` is first reduced
+    to weak Popov form ``W·M`` (then ``U = U_R·W``); otherwise the certified generic
+    Hermite form (:func:`~uio_ring.ring._generic.generic_hermite`), or None."""
+    n, var = M.rows, M.var
+    det = det_raw(M._r, n)
+    if det.is_zero():
+        return None, True
+    reduced = degree_reduced(M._r, n, track=True, det=det)
+    if reduced is not None:  # H(M) = H(W M) and U = U_R W
+        R, W = reduced
+        res = hermite(PolyMatrix._new(R, n, n, var))
+        return HermiteResult(res.H, res.U @ PolyMatrix._new(W or [], n, n, var), res.rank, res.pivots), False
+    got = generic_hermite(M._r, n)
+    if got is None:
+        return None, False
+    H, U, _ = got
+    return HermiteResult(
+        H=PolyMatrix._new(H, n, n, var), U=PolyMatrix._new(U, n, n, var), rank=n, pivots=tuple(range(n))
+    ), False
 
 
 #: Wide M (rows < columns) of full row rank go through the square block of their pivot

@@ -15,11 +15,18 @@ from dataclasses import dataclass
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
-from uio_ring.ring._echelon import normalise, reduce_transform, row_echelon
+from uio_ring.ring._echelon import (
+    CoefficientGrowth,
+    max_bits,
+    normalise,
+    reduce_transform,
+    row_echelon,
+)
 from uio_ring.ring._fraction_free import generic_factors_fraction_free, prefer_fraction_free
 from uio_ring.ring._generic import (
     GENERIC_MIN_SIZE,
     GENERIC_MIN_SIZE_FACTORS,
+    generic_first,
     generic_hermite,
     generic_invariant_factors,
     generic_last_factor,
@@ -33,6 +40,7 @@ from uio_ring.ring._predicates import (
 )
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
+from uio_ring.ring.hermite import ELIMINATION_BITS
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.poly import Poly
 
@@ -48,7 +56,8 @@ def _offdiagonal_zero(a: dn.Rows, r: int) -> bool:
     return True
 
 
-def _diagonalise(a: dn.Rows, u: dn.Rows | None, vt: dn.Rows | None, m: int, n: int) -> tuple[dn.Rows, int]:
+def _diagonalise(a: dn.Rows, u: dn.Rows | None, vt: dn.Rows | None, m: int, n: int,
+                 bit_cap: int | None = None) -> tuple[dn.Rows, int]:
     """Alternate row and column echelon forms until the matrix is diagonal.
 
     Row operations are mirrored on ``u``; column operations on ``vt`` (= Vᵀ, so
@@ -56,15 +65,17 @@ def _diagonalise(a: dn.Rows, u: dn.Rows | None, vt: dn.Rows | None, m: int, n: i
     After the first pass the nonzero part is an r×r triangular block; each pass
     replaces the corner entry by a gcd of its row or column, so its degree falls
     until the first row and column are clean, and likewise for the next corner.
+    ``bit_cap``: that of :func:`~uio_ring.ring._echelon.row_echelon` (raises
+    :class:`~uio_ring.ring._echelon.CoefficientGrowth`).
     """
-    r = len(row_echelon(a, u, m, n))
+    r = len(row_echelon(a, u, m, n, bit_cap=bit_cap))
     shape = (m, n)
     transposed = False  # True while `a` holds the transpose of the working matrix
     while not _offdiagonal_zero(a, r):
         a = dn.transpose(a, *shape)
         shape = (shape[1], shape[0])
         transposed = not transposed
-        row_echelon(a, vt if transposed else u, *shape)
+        row_echelon(a, vt if transposed else u, *shape, bit_cap=bit_cap)
     if transposed:
         a = dn.transpose(a, *shape)
     return a, r
@@ -164,7 +175,9 @@ def smith(M: PolyMatrix) -> SmithResult:
     add up to more than ``deg det`` are first reduced to weak Popov form ``W·M``
     (:mod:`uio_ring.ring._reduce`; then U = U_R·W).  They then try the certified
     generic path of :mod:`uio_ring.ring._generic` (``S = H·V`` with H the generic
-    Hermite form and ``V = [[I, −h], [0, 1]]``).  Otherwise:
+    Hermite form and ``V = [[I, −h], [0, 1]]``).  Smaller square matrices of high
+    degree (``generic_first``) take those paths when the elimination below outgrows its
+    cap, as in :func:`~uio_ring.ring.hermite.hermite`.  Otherwise:
     alternating row and column echelon forms with least-degree pivots until
     the matrix is diagonal (python-flint ``xgcd`` when two rows are left), then 2×2
     gcd steps for divisibility, then monic normalisation; the kernel rows of U and
@@ -188,7 +201,12 @@ def smith(M: PolyMatrix) -> SmithResult:
     M = require_matrix(M, "smith")
     m, n = M.shape
     var = M.var
-    if m == n >= GENERIC_MIN_SIZE:
+    if m == n and generic_first(M._r, n):
+        if n < GENERIC_MIN_SIZE:  # small, of high degree: the elimination while it stays small
+            try:
+                return _smith_by_elimination(M, bit_cap=ELIMINATION_BITS + 4 * max_bits(M._r))
+            except CoefficientGrowth:
+                pass
         reduced = degree_reduced(M._r, n, track=True)
         if reduced is not None:  # S(M) = S(W M): U = U_R W, V = V_R
             R, W = reduced
@@ -213,11 +231,17 @@ def smith(M: PolyMatrix) -> SmithResult:
 
 def smith_by_elimination(M: PolyMatrix) -> SmithResult:
     """:func:`smith` without the generic fast path (any shape; for testing both paths)."""
+    return _smith_by_elimination(M)
+
+
+def _smith_by_elimination(M: PolyMatrix, bit_cap: int | None = None) -> SmithResult:
+    """:func:`smith_by_elimination`; with ``bit_cap``, :class:`CoefficientGrowth` as soon as
+    an echelon pass outgrows it (the caller then has a better path)."""
     m, n = M.shape
     var = M.var
     u = dn.identity(m)
     vt = dn.identity(n)
-    a, r = _diagonalise(dn.copy(M._r), u, vt, m, n)
+    a, r = _diagonalise(dn.copy(M._r), u, vt, m, n, bit_cap)
     _fix_divisibility(a, u, vt, r)
     for i in range(r):
         c = bk.lc(a[i][i])
