@@ -81,6 +81,8 @@ Cases (seeded, identical for every library)
                has 4 rows of degree ≈ n/2 (n = 8 … 24)
     rankdef    n×n of rank n − 2: A·B with A n×(n−2), B (n−2)×n of degree 1
     highdeg    2×2 [[(1+δ)^k, δ^(k−1)+1], [δ^k − 1, (δ−1)^k]] (k = 16 … 256; the "n" column is k)
+    highdeg4   4×4, entries of degree k with integer coefficients in [−3, 3] (k = 8 … 64; the
+               "n" column is k): small and square, where Euclidean elimination swells
     paper001   M = [[C B, D], [D, 0]] of Zheng et al. §5 (6×4)
 
 After the table: the fitted growth exponents of left_kernel, left_inverse, hermite and
@@ -123,8 +125,9 @@ QUICK_SIZES = [2, 3]
 TALL4_SIZES = [8, 12, 16, 20, 24]
 RANKDEF_SIZES = [4, 8, 12, 16]
 HIGHDEG_KS = [16, 32, 64, 128, 256]
+HIGHDEG4_KS = [8, 16, 32, 64]
 QUICK_KS = [4, 8]
-FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "paper001"]
+FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "highdeg4", "paper001"]
 
 Coeffs = list[int]  # low to high
 Data = list[list[Coeffs]]  # matrix of coefficient lists
@@ -254,6 +257,10 @@ def _build_all(sizes: list[int], seed: int, *, quick: bool, max_n: int) -> list[
                           ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel"]))
     for k in (QUICK_KS if quick else HIGHDEG_KS):
         cases.append(dict(family="highdeg", n=k, shape=(2, 2), M=high_degree_matrix(k), W=None,
+                          ops=["hermite", "smith", "invariant_factors", "det"]))
+    rng6 = random.Random(seed + 6)
+    for k in (QUICK_KS if quick else HIGHDEG4_KS):
+        cases.append(dict(family="highdeg4", n=k, shape=(4, 4), M=_random_matrix(rng6, 4, 4, k), W=None,
                           ops=["hermite", "smith", "invariant_factors", "det"]))
     M = paper_001_matrix()
     cases.append(dict(family="paper001", n=6, shape=(6, 4), M=M, W=[M[0], M[2]],

@@ -42,3 +42,24 @@ def test_the_small_inverse_is_for_standard_points_only():
     assert ev._small_standard_inverse(ev.first_points(5)) is not None
     assert ev._small_standard_inverse([0, 1, -1, 2, 3]) is None
     assert ev._small_standard_inverse(ev.first_points(ev.SMALL_INVERSE_POINTS + 1)) is None
+
+
+@given(st.lists(st.integers(-60, 60), min_size=1, max_size=24, unique=True))
+def test_vandermonde_inverse_by_lagrange_is_the_inverse(xs):
+    """The closed form (columns: coefficients of P/(δ − x_i) / P'(x_i)) is V⁻¹, whatever the
+    distinct points, standard or not."""
+    n = len(xs)
+    V = flint.fmpq_mat(n, n, [flint.fmpq(x) ** e for x in xs for e in range(n)])
+    inv = ev._vandermonde_inverse(xs)
+    assert inv * V == flint.fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)])
+    assert inv == V.inv()
+
+
+@given(st.lists(_coefficients, min_size=9, max_size=10), st.sampled_from([40, 129, 140]))
+def test_interpolate_columns_beyond_the_inverse(columns, count):
+    """Many columns: by the cached inverse up to ``_INVERSE_MAX_POINTS`` points (40), by the
+    subproduct tree beyond (129, 140); both recover every column."""
+    polys = [bk.from_coeffs([Fraction(c) for c in cs]) for cs in columns]
+    xs = ev.first_points(count)
+    values = flint.fmpq_mat(count, len(polys), [v for x in xs for v in (bk.evaluate(p, flint.fmpq(x)) for p in polys)])
+    assert ev.interpolate_columns(values) == polys
