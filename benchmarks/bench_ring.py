@@ -83,6 +83,8 @@ Cases (seeded, identical for every library)
     highdeg    2×2 [[(1+δ)^k, δ^(k−1)+1], [δ^k − 1, (δ−1)^k]] (k = 16 … 256; the "n" column is k)
     highdeg4   4×4, entries of degree k with integer coefficients in [−3, 3] (k = 8 … 64; the
                "n" column is k): small and square, where Euclidean elimination swells
+    sparse     n×n, each entry nonzero with probability 0.3 (degree 8, coefficients in
+               [−3, 3]), one row zero (n = 8, 10, 12): rank-deficient and sparse
     paper001   M = [[C B, D], [D, 0]] of Zheng et al. §5 (6×4)
 
 After the table: the fitted growth exponents of left_kernel, left_inverse, hermite and
@@ -127,7 +129,8 @@ RANKDEF_SIZES = [4, 8, 12, 16]
 HIGHDEG_KS = [16, 32, 64, 128, 256]
 HIGHDEG4_KS = [8, 16, 32, 64]
 QUICK_KS = [4, 8]
-FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "highdeg4", "paper001"]
+SPARSE_SIZES = [8, 10, 12]
+FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "highdeg4", "sparse", "paper001"]
 
 Coeffs = list[int]  # low to high
 Data = list[list[Coeffs]]  # matrix of coefficient lists
@@ -262,6 +265,13 @@ def _build_all(sizes: list[int], seed: int, *, quick: bool, max_n: int) -> list[
     for k in (QUICK_KS if quick else HIGHDEG4_KS):
         cases.append(dict(family="highdeg4", n=k, shape=(4, 4), M=_random_matrix(rng6, 4, 4, k), W=None,
                           ops=["hermite", "smith", "invariant_factors", "det"]))
+    rng7 = random.Random(seed + 7)
+    for n in (QUICK_SIZES[-1:] if quick else [n for n in SPARSE_SIZES if n <= max_n]):
+        M = [[_trim([rng7.randint(-3, 3) for _ in range(9)]) if rng7.random() < 0.3 else [] for _ in range(n)]
+             for _ in range(n)]
+        M[rng7.randrange(n)] = [[] for _ in range(n)]
+        cases.append(dict(family="sparse", n=n, shape=(n, n), M=M, W=None,
+                          ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel"]))
     M = paper_001_matrix()
     cases.append(dict(family="paper001", n=6, shape=(6, 4), M=M, W=[M[0], M[2]],
                       ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel", "solve_left"]))

@@ -165,3 +165,21 @@ def test_degree_reduction_path_keeps_the_forms(n):
     s = smith(M)
     assert s.U @ M @ s.V == s.S and is_unimodular(s.U) and is_unimodular(s.V)
     assert s.invariant_factors == invariant_factors(M) == invariant_factors_by_elimination(M)
+
+
+@pytest.mark.parametrize("n,deg", [(3, 16), (4, 8), (5, 4)])
+def test_small_square_of_high_degree_solves_by_evaluation(monkeypatch, n, deg):
+    """From ``generic_first`` on (3×3 from degree 14, 4×4 from 6, 5×5 from 3) solve_left takes
+    the evaluation path: the unique solution, and a non-polynomial one is refused by name."""
+    import importlib
+
+    solve_module = importlib.import_module("uio_ring.ring.solve")
+    calls = []
+    monkeypatch.setattr(solve_module, "generic_solve_left", lambda *a: calls.append(1) or generic_solve_left(*a))
+    rng = random.Random(n * deg)
+    V = random_matrix(rng, n, deg)
+    X0 = random_matrix(rng, n, 2)[:2, :]
+    assert solve_left(V, X0 @ V) == X0
+    with pytest.raises(NoPolynomialSolutionError):
+        solve_left(V, PolyMatrix.identity(n))
+    assert calls == [1, 1]

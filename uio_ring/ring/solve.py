@@ -4,7 +4,9 @@ With ``U V = H`` (row echelon, r nonzero rows, pivots p_k) every solution is
 ``X = Y U`` with ``Y_[:, :r] H_[:r] = W`` and ``Y_[:, r:]`` free.  The first part
 is solved by back substitution along the pivots, which needs exact polynomial
 divisions; a remainder anywhere means no polynomial solution.  A square
-nonsingular V of size ≥ ``GENERIC_MIN_SIZE`` takes the evaluation path instead:
+nonsingular V of size ≥ ``GENERIC_MIN_SIZE``, or smaller but of high degree
+(:func:`~uio_ring.ring._generic.generic_first`: 4×4 from degree 6; 4×4 of degree 32,
+27 against 81 ms), takes the evaluation path instead:
 ``W·adj V`` is interpolated and divided exactly by ``det V``
 (:func:`uio_ring.ring._generic.generic_solve_left`).  The returned X
 is reduced modulo a Popov basis of the left kernel of V (low δ-degree).  A tall
@@ -27,7 +29,7 @@ from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._division import reduce_modulo_popov
 from uio_ring.ring._echelon import reduce_transform, row_echelon
-from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_solve_left
+from uio_ring.ring._generic import generic_first, generic_solve_left
 from uio_ring.ring._kernel_basis import (
     ToeplitzCoefficients,
     popov_left_kernel,
@@ -74,7 +76,7 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
         raise DimensionError(
             f"solve_left: V is {k}×{n} and W is {m}×{n2}; X·V = W needs the same number of columns"
         )
-    if k == n >= GENERIC_MIN_SIZE:
+    if k == n and generic_first(V._r, n):
         try:
             got = generic_solve_left(V._r, W._r, n, m)
         except ArithmeticError as exc:
