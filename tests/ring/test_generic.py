@@ -183,3 +183,26 @@ def test_small_square_of_high_degree_solves_by_evaluation(monkeypatch, n, deg):
     with pytest.raises(NoPolynomialSolutionError):
         solve_left(V, PolyMatrix.identity(n))
     assert calls == [1, 1]
+
+
+def test_degree_reduced_matrix_whose_elimination_swells_takes_the_generic_tier(monkeypatch):
+    """W·A·diag(1, …, 1, δ−1, δ−1) with W unimodular of high degree: the weak Popov reduction
+    applies, the elimination of the reduced matrix outgrows its cap, and the adjugate tier
+    gives (1, …, 1, δ − 1, (δ − 1)·det A / lc) — where the elimination without cap took minutes
+    on a 9×9 of degree 8."""
+    import importlib
+
+    smith_module = importlib.import_module("uio_ring.ring.smith")
+    calls = []
+    real = smith_module.generic_invariant_factors
+    monkeypatch.setattr(smith_module, "generic_invariant_factors", lambda a, n: calls.append(n) or real(a, n))
+    rng = random.Random(0)
+    n = 6
+    A = random_matrix(rng, n, 3)
+    M = random_unimodular(rng, n, steps=12) @ A @ PolyMatrix.diag(*([1] * (n - 2) + ["d - 1", "d - 1"]))
+    f = invariant_factors(M)
+    assert calls == [n]
+    d1 = PolyMatrix("[[d - 1]]")[0, 0]
+    assert f[: n - 2] == (PolyMatrix.identity(1)[0, 0],) * (n - 2)
+    assert f[n - 2] == d1 and f[n - 1] == (d1 * A.det()).monic()
+    assert f == invariant_factors_by_elimination(M)
