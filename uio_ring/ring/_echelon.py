@@ -29,7 +29,7 @@ def max_bits(rows: dn.Rows) -> int:
     >>> max_bits([[flint.fmpq_poly([flint.fmpq(1, 1000), 5])]])  # (1 + 5000·δ)/1000
     23
     """
-    return max((bk.bits(p) for row in rows for p in row if not p.is_zero()), default=0)
+    return max((bk.bits(p) for row in rows for p in row if p), default=0)
 
 
 def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:

@@ -298,9 +298,9 @@ def _with_zero_columns(res: HermiteResult, zero_columns: list[int], n: int) -> H
     keep = [j for j in range(n) if j not in zero]
     rows = []
     for row in res.H._r:
-        full = [flint.fmpq_poly() for _ in range(n)]
-        for j, p in zip(keep, row, strict=True):
-            full[j] = p
+        full = list(row)
+        for j in zero_columns:  # ascending: each lands at its own index
+            full.insert(j, flint.fmpq_poly())
         rows.append(full)
     H = PolyMatrix._new(rows, res.H.rows, n, res.H.var)
     return HermiteResult(H, res.U, res.rank, tuple(keep[j] for j in res.pivots))
