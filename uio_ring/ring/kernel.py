@@ -18,6 +18,7 @@ from __future__ import annotations
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import popov_left_kernel
+from uio_ring.ring._predicates import rank_raw
 from uio_ring.ring.hermite import _few_rows_of_high_degree, hermite
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
@@ -47,6 +48,8 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
     if fast is not None:
         return PolyMatrix._new(fast, len(fast), m, M.var)
     if _few_rows_of_high_degree(M):
+        if rank_raw(M._r, m, n) == m:  # no kernel: no Hermite form (4×4 of degree 32: 0.8 s)
+            return PolyMatrix._new([], 0, m, M.var)
         h = hermite(M)  # its kernel rows are the Popov basis
         return h.U[h.rank :, :]
     return left_kernel_by_elimination(M)
