@@ -8,12 +8,15 @@ identities are checked.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
 from uio_ring import PolyMatrix, invariant_factors, is_smith, is_unimodular, smith
+from uio_ring.ring._column_basis import full_rank_core
+from uio_ring.ring.smith import invariant_factors_by_elimination
 
 from .strategies import (
     P,
@@ -24,6 +27,7 @@ from .strategies import (
     matrices,
     paper_001_M,
     paper_001_system,
+    rank_deficient_matrices,
     reference_det,
     reference_invariant_factors,
     reference_rank,
@@ -33,6 +37,8 @@ from .strategies import (
     to_sympy_poly,
     unimodular_matrices,
 )
+
+smith_module = importlib.import_module("uio_ring.ring.smith")
 
 
 def check_smith(M: PolyMatrix):
@@ -237,3 +243,36 @@ def test_verify_detects_a_wrong_claim():
     assert s.verify(M).ok
     assert not dataclasses.replace(s, S=PolyMatrix.diag(1, "d")).verify(M).ok
     assert not dataclasses.replace(s, V=s.V @ PolyMatrix.diag("d", 1)).verify(M).ok
+
+
+# ----------------------------------------------------------------------------
+# rank-deficient: a square nonsingular core from kernel bases (ring._column_basis)
+# ----------------------------------------------------------------------------
+@given(rank_deficient_matrices(min_rows=2, max_rows=5, min_cols=2, max_cols=5))
+def test_full_rank_core_has_the_invariant_factors(M):
+    """T (r×r) built from kernel bases and one-sided inverses is nonsingular and has the
+    invariant factors of M, by the elimination on M itself."""
+    r = M.rank()
+    if r == 0:
+        return
+    T = full_rank_core(M._r, *M.shape, r)
+    assert T is not None
+    T = PolyMatrix._new(T, r, r, M.var)
+    assert not T.det().is_zero()
+    assert invariant_factors_by_elimination(T) == invariant_factors_by_elimination(M)
+
+
+def test_singular_square_beyond_the_guard_takes_the_core(monkeypatch):
+    """With the runaway guard lowered, a singular square matrix whose elimination crosses it
+    goes through the kernel-basis core, with the elimination's invariant factors."""
+    calls = []
+    real = smith_module.full_rank_core
+    monkeypatch.setattr(smith_module, "full_rank_core", lambda *a: calls.append(a[3]) or real(*a))
+    monkeypatch.setattr(smith_module, "FULL_ELIMINATION_BITS", 8)
+    A = PolyMatrix("[[d**3 + 2, 3*d - 1, d**2], [d - 5, d**4 + d, 7], [2*d**2, 1, d**3 - 4*d], [d, d + 1, 1]]")
+    B = PolyMatrix("[[d + 1, 2, d**2 - 3, d, 1], [3, d**2 + 2*d, 1, d - 1, 2*d], [d**2, d, 5, 1, d + 3]]")
+    M = A @ B @ PolyMatrix("[[1, 0, 0, 0, 0], [0, 1, 0, 0, 0], [0, 0, 1, 0, 0], [0, 0, 0, 1, 0], [1, 1, 1, 1, 1]]")
+    M = PolyMatrix.vstack(M, M[0:1, :] + M[1:2, :])  # 5×5 of rank 3
+    f = invariant_factors(M)
+    assert calls == [3]
+    assert f == smith_module.invariant_factors_by_elimination(M)

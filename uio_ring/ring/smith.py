@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._column_basis import full_rank_core
 from uio_ring.ring._echelon import (
     CoefficientGrowth,
     max_bits,
@@ -40,7 +41,7 @@ from uio_ring.ring._predicates import (
 )
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
-from uio_ring.ring.hermite import ELIMINATION_BITS
+from uio_ring.ring.hermite import ELIMINATION_BITS, FULL_ELIMINATION_BITS
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.poly import Poly
 
@@ -321,6 +322,15 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
             facs = generic_invariant_factors(M._r, n)
             if facs is not None:
                 return tuple(Poly._wrap(f, M.var) for f in facs)
+    if m == n > 0 and (r := rank_raw(M._r, m, n)) < n:
+        # singular: the elimination under a guard against runaway growth, else a square
+        # nonsingular matrix with the same invariant factors from kernel bases
+        try:
+            return _invariant_factors_by_elimination(M, bit_cap=FULL_ELIMINATION_BITS)
+        except CoefficientGrowth:
+            core = full_rank_core(M._r, m, n, r) if r else None
+            if core is not None:
+                return invariant_factors(PolyMatrix._new(core, r, r, M.var))
     return invariant_factors_by_elimination(M)
 
 
