@@ -385,8 +385,16 @@ def _hermite_by_toeplitz(
 
 
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
-#: ``ELIMINATION_BITS + 4·(bits of M)`` bits (see :func:`_hermite_by_small_elimination`).
+#: ``ELIMINATION_BITS + 4·(bits of M)`` bits (see :func:`_hermite_by_small_elimination`);
+#: the same cap lets small square matrices of high degree leave the elimination (hermite,
+#: smith, invariant_factors).
 ELIMINATION_BITS = 64
+
+
+def elimination_cap(rows: dn.Rows, base: int = ELIMINATION_BITS) -> int:
+    """The bit cap of an elimination that gives way to a better path once it swells:
+    ``base + 4·max_bits(rows)``, relative to the input's own coefficients."""
+    return base + 4 * max_bits(rows)
 #: The uncapped elimination with transform for H ≠ [I; 0] only up to this δ-degree of M
 #: (remainder sequences of higher degree can swell over Q: a 5×4 of degree 32 in a
 #: W-step of ``uio-ring check``, 28 s against 1.9 s for the Toeplitz systems).
@@ -460,7 +468,7 @@ def _hermite_by_small_elimination(
     if got is not None:
         a, u, pivots = got
     else:
-        cap = bits + 4 * max_bits(M._r) if capped else None
+        cap = elimination_cap(M._r, bits) if capped else None
         a = dn.copy(M._r) if rows is None else rows
         u = dn.identity(m)
         try:

@@ -18,7 +18,6 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring._column_basis import full_rank_core
 from uio_ring.ring._echelon import (
     CoefficientGrowth,
-    max_bits,
     normalise,
     reduce_transform,
     row_echelon,
@@ -41,7 +40,7 @@ from uio_ring.ring._predicates import (
 )
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
-from uio_ring.ring.hermite import ELIMINATION_BITS, FULL_ELIMINATION_BITS
+from uio_ring.ring.hermite import FULL_ELIMINATION_BITS, elimination_cap
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.poly import Poly
 
@@ -205,7 +204,7 @@ def smith(M: PolyMatrix) -> SmithResult:
     if m == n and generic_first(M._r, n):
         if n < GENERIC_MIN_SIZE:  # small, of high degree: the elimination while it stays small
             try:
-                return _smith_by_elimination(M, bit_cap=ELIMINATION_BITS + 4 * max_bits(M._r))
+                return _smith_by_elimination(M, bit_cap=elimination_cap(M._r))
             except CoefficientGrowth:
                 pass
         reduced = degree_reduced(M._r, n, track=True)
@@ -311,7 +310,7 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
         if reduced is not None:  # low degree, large coefficients: elimination is faster here
             M = PolyMatrix._new(reduced[0], n, n, M.var)  # the same invariant factors
             try:  # while it stays small (a 9×9 of degree 8 with two non-trivial factors: 173 s, generic 28 ms)
-                return _invariant_factors_by_elimination(M, bit_cap=ELIMINATION_BITS + 4 * max_bits(M._r))
+                return _invariant_factors_by_elimination(M, bit_cap=elimination_cap(M._r))
             except CoefficientGrowth:
                 pass
         last = generic_last_factor(M._r, n)
