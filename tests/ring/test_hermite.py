@@ -449,3 +449,34 @@ def test_wide_hermite_at_the_pivot_block_sizes(M):
     r = hermite(M)
     ref = hm.hermite_by_elimination(M)
     assert (r.H, r.U, r.rank, r.pivots) == (ref.H, ref.U, ref.rank, ref.pivots)
+
+
+def test_a_lone_entry_column_goes_straight_to_the_elimination_with_transform(monkeypatch):
+    """Tall 8×5, sparse, with a column whose only entry has degree 4: H ≠ [I; 0] is proved
+    by that column, so hermite neither tries the capped elimination first nor the compressed
+    minors; H and U equal the elimination's (both unique)."""
+    import importlib
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    rows = [
+        ["0", "0", "d**4 + 1", "0", "0"],
+        ["0", "d**4 - d", "d**3", "d**2 + 3", "0"],
+        ["0", "0", "0", "0", "d**4 - 2*d + 1"],
+        ["0", "d**3 + 2", "d**2", "0", "0"],
+        ["d**3 - 1", "d**4", "0", "0", "0"],
+        ["2*d**4 + d", "0", "d**4 + d", "0", "0"],
+        ["0", "d**4 + 1", "0", "3*d**2", "0"],
+        ["d**4", "0", "d**2 - 1", "d", "0"],
+    ]
+    M = PolyMatrix(rows)
+    calls = []
+    real_small, real_minors = hermite_module._hermite_by_small_elimination, hermite_module.coprime_maximal_minors
+    monkeypatch.setattr(hermite_module, "_hermite_by_small_elimination",
+                        lambda *a, **k: calls.append(("small", k.get("full", False))) or real_small(*a, **k))
+    monkeypatch.setattr(hermite_module, "coprime_maximal_minors",
+                        lambda *a, **k: calls.append(("minors",)) or real_minors(*a, **k))
+    h = check_hermite(M)
+    assert calls == [("small", True)]
+    ref = hermite_module.hermite_by_elimination(M)
+    assert (h.H, h.U) == (ref.H, ref.U)
+    assert h.rank == 5 and h.H[4, 4].degree() > 0

@@ -400,3 +400,51 @@ def test_det_below_echelon_refuses_rows_out_of_echelon_form():
     M = PolyMatrix("[[0, 1, d], [1, 0, 0], [d, 1, 1]]")
     assert det_below_echelon(M._r, 3) is None
     assert det_below_echelon(PolyMatrix("[[0, 0, 0], [1, 0, 0], [d, 1, 1]]")._r, 3) is None
+
+
+@given(st.integers(1, 4).flatmap(lambda n: dense_matrices(rows=n + 2, cols=n, max_degree=2)), st.data())
+def test_a_lone_entry_column_proves_m_is_not_left_unimodular(M, data):
+    """A column made zero but for one entry of positive degree: that entry divides every
+    maximal minor, so M is never left unimodular, and the predicate says so; with a
+    constant lone entry it says nothing (it must not claim anything then)."""
+    from uio_ring.ring import _backend as bk
+    from uio_ring.ring import _dense as dn
+    from uio_ring.ring._predicates import coprime_maximal_minors, lone_entry_column
+
+    m, n = M.shape
+    a = dn.copy(M._r)
+    j, i = data.draw(st.integers(0, n - 1)), data.draw(st.integers(0, m - 1))
+    lone = data.draw(st.sampled_from(["d", "d**2 - 1", "3", ""]))
+    for k in range(m):
+        a[k][j] = bk.ZERO
+    if lone:
+        a[i][j] = PolyMatrix([[lone]])._r[0][0]
+    T = PolyMatrix._new(a, m, n, "d")
+    claimed = lone_entry_column(a, m, n)
+    event(f"lone={lone!r} claimed={claimed}")
+    if lone in ("d", "d**2 - 1", ""):
+        assert claimed
+    if claimed:
+        assert not is_left_unimodular(T)
+        assert not coprime_maximal_minors(a, m, n)
+
+
+def test_routing_answer_skips_the_exact_minors_on_modular_evidence(monkeypatch):
+    """[[δ, 1], [δ, 1 + δ], [δ², δ]]·[[1, 0], [0, δ − 2]]: every maximal minor is a multiple
+    of δ − 2 (no lone column). The routing answer stops at the modular gcd; the full answer
+    computes exact minors to be sure; both say False, and a left unimodular M is still
+    proved with routing."""
+    from uio_ring.ring import _predicates
+    from uio_ring.ring._predicates import coprime_maximal_minors, lone_entry_column
+
+    M = PolyMatrix("[[d, 1], [d, 1 + d], [d**2, d]]") @ PolyMatrix("[[1, 0], [0, d - 2]]")
+    assert not lone_entry_column(M._r, 3, 2)
+    exact_calls = []
+    real = _predicates.det_raw
+    monkeypatch.setattr(_predicates, "det_raw", lambda *a: exact_calls.append(1) or real(*a))
+    assert not coprime_maximal_minors(M._r, 3, 2, routing=True)
+    assert exact_calls == []
+    assert not coprime_maximal_minors(M._r, 3, 2)
+    assert exact_calls
+    R = PolyMatrix("[[1, 0], [d, 1], [0, d]]")
+    assert coprime_maximal_minors(R._r, 3, 2, routing=True) and is_left_unimodular(R)

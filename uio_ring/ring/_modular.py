@@ -35,7 +35,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring._fraction_free import integer_rows
 
-__all__ = ["PRIME", "det_mod_p", "coprime_dets_mod_p"]
+__all__ = ["PRIME", "det_mod_p", "coprime_dets_mod_p", "gcd_degree_mod_p"]
 
 #: A word-size prime (2^61 − 1): far more points than any degree bound in the limits.
 PRIME = (1 << 61) - 1
@@ -84,9 +84,24 @@ def det_mod_p(a: dn.Rows, k: int, p: int = PRIME) -> tuple[flint.nmod_poly, int]
 def coprime_dets_mod_p(a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None, p: int = PRIME) -> bool:
     """True when det a1 and det a2 (k×k and k2×k2, k2 = k by default) are proved coprime in
     Q[δ] by the test of the module docstring; False proves nothing."""
+    return gcd_degree_mod_p(a1, a2, k, k2=k2, p=p) == 0
+
+
+def gcd_degree_mod_p(a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None, p: int = PRIME) -> int | None:
+    """The degree of ``gcd(det a1 mod p, det a2 mod p)`` when ``det a1 mod p`` attains its
+    degree bound (then ``det a1`` keeps its leading coefficient mod p), else None; −1 when
+    ``det a2 mod p`` is 0.  0 proves ``det a1``, ``det a2`` coprime (module docstring); a
+    positive degree is evidence of a common factor over Q — unless p divides their
+    resultant, which is unlikely for a 61-bit p — and proves nothing.
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d = bk.from_coeffs([0, 1])
+    >>> gcd_degree_mod_p([[d * d + 1]], [[d * d * d + d]], 1)  # δ² + 1 divides δ³ + δ
+    2
+    """
     f, bound = det_mod_p(a1, k, p)
     if f.degree() != bound or bound < 0:
-        return False
+        return None
     g, _ = det_mod_p(a2, k if k2 is None else k2, p)
-    return bool(f.gcd(g).is_one()) if not g.is_zero() else False
+    return -1 if g.is_zero() else int(f.gcd(g).degree())
 

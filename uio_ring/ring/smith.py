@@ -296,7 +296,7 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
                 return tuple(Poly._wrap(f, M.var) for f in facs)
     if m > n > 0:
         r = rank_raw(M._r, m, n)
-        if r == n and coprime_maximal_minors(M._r, m, n):
+        if r == n and coprime_maximal_minors(M._r, m, n, routing=True):
             return (Poly._wrap(bk.ONE, M.var),) * n
         a = dn.copy(M._r)
         pivots = row_echelon(a, None, m, n)
