@@ -276,3 +276,84 @@ def test_singular_square_beyond_the_guard_takes_the_core(monkeypatch):
     f = invariant_factors(M)
     assert calls == [3]
     assert f == smith_module.invariant_factors_by_elimination(M)
+
+
+def _through_hermite(monkeypatch, M: PolyMatrix, calls: list | None = None):
+    """smith(M) with the elimination's first attempt made to fail at once, so that a
+    rectangular or singular M of ≥ 6 rows and columns goes through the Hermite forms."""
+    from uio_ring.ring import _smith_by_hermite
+
+    monkeypatch.setattr(smith_module, "SMITH_ELIMINATION_BITS", -(10**6))
+    if calls is not None:
+        real = _smith_by_hermite.diagonal_form_by_hermite
+        monkeypatch.setattr(smith_module, "diagonal_form_by_hermite",
+                            lambda *a, **k: calls.append(a[1:3]) or real(*a, **k))
+    return check_smith(M)
+
+
+@heavy()
+@given(st.data())
+def test_smith_through_hermite_forms_is_the_smith_form(data):
+    """Rank-deficient square and tall/wide M of 6..7 rows and columns: the Smith form through
+    Hermite forms and unit pivots has the invariant factors of the elimination (and of
+    sympy), U·M·V = S with U, V unimodular, and the kernel rows of U and columns of V are
+    the Popov bases."""
+    from .strategies import assert_popov
+
+    m, n = data.draw(st.integers(6, 7)), data.draw(st.integers(6, 7))
+    kind = data.draw(st.sampled_from(["rank-deficient", "dense"]))
+    if kind == "rank-deficient":
+        M = data.draw(rank_deficient_matrices(rows=m, cols=n))
+    else:
+        M = data.draw(dense_matrices(rows=m, cols=n, max_degree=2))
+    if M.rank() == 0 or (m == n and M.rank() == n):
+        return  # nothing to eliminate, or square nonsingular: not this path
+    calls: list = []
+    with pytest.MonkeyPatch.context() as mp:
+        s = _through_hermite(mp, M, calls)
+    assert calls == [(m, n)]
+    ref = smith_module.smith_by_elimination(M)
+    assert s.S == ref.S
+    r = s.rank
+    assert [str(f) for f in s.invariant_factors] == [str(f) for f in ref.invariant_factors]
+    if r < m:
+        assert_popov(s.U[r:, :])
+        assert s.U[r:, :] == ref.U[r:, :]  # the Popov basis is unique
+    if r < n:
+        assert_popov(s.V[:, r:].T)
+        assert s.V[:, r:] == ref.V[:, r:]
+
+
+def test_smith_through_hermite_forms_clears_unit_pivots_without_arithmetic(monkeypatch):
+    """diag(1, 1, 1, 1, δ, 0) times unimodular factors (6×6, rank 5): the row Hermite form
+    has four unit pivots, and the core left is a single entry; the factors are
+    1, 1, 1, 1, δ exactly (unique), with the kernel rows in Popov form."""
+    U = PolyMatrix([[1, "d", 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, "d**2", 1, 0, 0, 0],
+                    [0, 0, "2*d", 1, 0, 0], [0, 0, 0, "d", 1, 0], [1, 0, 0, 0, "d", 1]])
+    V = PolyMatrix([[1, 0, 0, 0, 0, 0], ["d", 1, 0, 0, 0, 0], [0, 3, 1, 0, 0, 0],
+                    [0, 0, "d", 1, 0, 0], [0, 0, 0, 0, 1, 0], ["d**2", 0, 0, 0, "d", 1]]).T
+    M = U @ PolyMatrix.diag(1, 1, 1, 1, "d", 0) @ V
+    s = _through_hermite(monkeypatch, M)
+    assert [str(f) for f in s.invariant_factors] == ["1", "1", "1", "1", "d"]
+
+
+def test_sparse_singular_smith_goes_through_hermite_forms_when_elimination_swells(monkeypatch):
+    """A 10×10 of degree 6 with 30 % nonzero entries and a zero row (rank 9): the
+    elimination outgrows its cap, and the Hermite path gives the Smith form (checked by
+    the identities and against the invariant factors computed without transforms)."""
+    import random
+
+    rng = random.Random(5)
+    n = 10
+    rows = [[" + ".join(f"({rng.randint(-3, 3)})*d**{k}" for k in range(7)) if rng.random() < 0.3 else "0"
+             for _ in range(n)] for _ in range(n)]
+    rows[3] = ["0"] * n
+    M = PolyMatrix(rows)
+    calls: list = []
+    real = smith_module.diagonal_form_by_hermite
+    monkeypatch.setattr(smith_module, "diagonal_form_by_hermite",
+                        lambda *a, **k: calls.append(a[1:3]) or real(*a, **k))
+    s = smith(M)
+    assert calls == [(n, n)]
+    assert s.verify(M).ok  # U·M·V = S exactly, det U and det V nonzero constants, S normalised
+    assert s.invariant_factors == invariant_factors(M) and s.rank == 9
