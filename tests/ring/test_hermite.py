@@ -480,3 +480,36 @@ def test_a_lone_entry_column_goes_straight_to_the_elimination_with_transform(mon
     ref = hermite_module.hermite_by_elimination(M)
     assert (h.H, h.U) == (ref.H, ref.U)
     assert h.rank == 5 and h.H[4, 4].degree() > 0
+
+
+def test_tall_matrix_of_high_degree_takes_its_weak_popov_form_for_h(monkeypatch):
+    """M = W·[R; 0] with R 3×3 of degree ≤ 2 (det of degree 4) and W unimodular of degree
+    ~50, the first elimination stopped as if it swelled: H(M) = H(R) (the same row module)
+    comes from M's weak Popov form — the Euclidean elimination of a 4×3 of degree 72 from
+    a Smith core took 260 s there, the weak Popov form 8 ms.  U·M = H with U unimodular,
+    and the Popov kernel row."""
+    import importlib
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    import random
+
+    rng = random.Random(3)
+
+    def poly(degree: int) -> str:
+        return " + ".join(f"({rng.randint(-3, 3)})*d**{k}" for k in range(degree + 1))
+
+    R = PolyMatrix([["d**2 + 1", 0, 0], ["d", "d - 1", 0], [1, 2, "d**2 - 3"]])
+    W = PolyMatrix.identity(4)
+    for i, j in [(2, 0), (3, 1), (3, 2), (2, 3), (0, 2), (1, 3)]:
+        E = PolyMatrix([[poly(12) if (a, b) == (i, j) else int(a == b) for b in range(4)] for a in range(4)])
+        W = E @ W
+    M = W @ PolyMatrix([[R[i, j] for j in range(3)] for i in range(3)] + [[0, 0, 0]])
+    assert is_unimodular(W) and max(M[i, j].degree() for i in range(4) for j in range(3)) >= 45
+    calls = []
+    real = hermite_module._hermite_rows_by_reduction
+    monkeypatch.setattr(hermite_module, "_hermite_rows_by_reduction", lambda A: calls.append(A.shape) or real(A))
+    monkeypatch.setattr(hermite_module, "ELIMINATION_BITS", -(10**6))  # as if the elimination swelled
+    h = check_hermite(M)
+    assert calls == [(4, 3)]
+    assert h.H[:3, :] == hermite(R).H and h.H[3, :].is_zero()
+    assert_popov(h.U[3:, :])

@@ -330,10 +330,10 @@ def _hermite_by_toeplitz(
     ``min_rows`` rows (default ``TOEPLITZ_MIN_ROWS``).  ``singular``: the caller has
     proved M square and singular (its rank is then not computed: it is < rows and
     < columns, and H comes from elimination).  When the elimination with transform
-    stops on coefficient growth, H is computed by continuing that elimination,
-    without transform, from where it stopped (the rows are unimodular combinations
-    of those of M, and H is unique).  ``eliminate_first=False``: the caller has seen
-    that elimination stop already.
+    stops on coefficient growth, or M has a δ-degree above ``ELIMINATION_MAX_DEGREE``, H
+    is the Hermite form of M's weak Popov form (:func:`_hermite_rows_by_reduction`; H
+    is unique).  ``eliminate_first=False``: the caller has seen that elimination stop
+    already.
     """
     m, n = M.shape
     a = M._r
@@ -349,8 +349,7 @@ def _hermite_by_toeplitz(
     # tries it under the tight cap first
     top_identity_possible = not singular and (r == -1 or r == n) and not lone_entry_column(a, m, n)
     if top_identity_possible and eliminate_first:
-        h = dn.copy(a)
-        small = _hermite_by_small_elimination(M, rows=h)
+        small = _hermite_by_small_elimination(M)
         if small is not None:
             return small
     if top_identity_possible and r == -1:
@@ -362,16 +361,13 @@ def _hermite_by_toeplitz(
         # H has pivots of positive degree: eliminating for H costs most of what the
         # transform does, and the elimination with transform is 1.2–5× faster than
         # that plus the Toeplitz nullspace and solve (rank-deficient 8×8 … 14×12)
-        h = dn.copy(a)
         got = None
         if dn.mat_degree(a) <= ELIMINATION_MAX_DEGREE:
-            got = _hermite_by_small_elimination(M, rows=h, full=True)
+            got = _hermite_by_small_elimination(M, full=True)
         if got is not None:
             return got
-        pivots = row_echelon(h, None, m, n)
-        normalise(h, None, pivots)
+        h_top, pivots = _hermite_rows_by_reduction(M)
         r = len(pivots)
-        h_top = h[:r]
     K = popov_left_kernel(a, m, n, min_rows=0)
     if K is None:
         return None
@@ -385,6 +381,26 @@ def _hermite_by_toeplitz(
         rank=r,
         pivots=tuple(pivots),
     )
+
+
+def _hermite_rows_by_reduction(M: PolyMatrix) -> tuple[dn.Rows, list[int]]:
+    """The nonzero rows of H and its pivots, without a transform: M's weak Popov form
+    (Mulders & Storjohann 2003: leading terms cancelled, so degrees only fall), whose
+    nonzero rows R span M's row module and have full row rank, then the Hermite form of R
+    (square nonsingular or wide: the paths by evaluation).  A Euclidean elimination of M
+    itself builds Bézout cofactors whose coefficients swell with the degree: a 4×3 of
+    degree 72 (rows of degree 8, 8, 72, 72, pivots of degree 0, 0, 48; the transposed core
+    of a Smith form) took 260 s, against 8 ms here.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> _hermite_rows_by_reduction(PolyMatrix([["d", 1], ["d**2", "d"], [1, 0]]))
+    ([[1, 0], [0, 1]], [0, 1])
+    """
+    m, n = M.shape
+    reduced = dn.copy(M._r)
+    k = len(dn.weak_popov(reduced))
+    res = hermite(PolyMatrix._new(reduced[:k], k, n, M.var))
+    return res.H._r[: res.rank], list(res.pivots)
 
 
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
@@ -426,7 +442,7 @@ CAP_MIN_ENTRIES = 40
 
 
 def _hermite_by_small_elimination(
-    M: PolyMatrix, *, rows: dn.Rows | None = None, xgcd_rows: int = 2, full: bool = False,
+    M: PolyMatrix, *, xgcd_rows: int = 2, full: bool = False,
     capped: bool | None = None,
 ) -> HermiteResult | None:
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
@@ -444,9 +460,7 @@ def _hermite_by_small_elimination(
     the result is the same H and U as from the Toeplitz nullspace, which costs
     O(N³) word operations per prime whatever the coefficients (40× slower there).
     Generic tall matrices swell to thousands of bits within a few columns: the
-    cap stops those early and the caller takes the Toeplitz path.  ``rows``: a copy
-    of the rows of M to work in (the caller keeps it: half eliminated when the cap
-    stops the elimination).  ``xgcd_rows``: see :func:`row_echelon` (the rational
+    cap stops those early and the caller takes the Toeplitz path.  ``xgcd_rows``: see :func:`row_echelon` (the rational
     elimination only).  ``full``: the elimination for H ≠ [I; 0], under the runaway
     guard ``FULL_ELIMINATION_BITS`` instead of ``ELIMINATION_BITS``, and fraction free over
     Z[δ] (otherwise the integral elimination gives way to the rational one at the first
@@ -465,14 +479,14 @@ def _hermite_by_small_elimination(
     if capped is None:
         capped = m * n >= CAP_MIN_ENTRIES or dn.mat_degree(M._r) >= CAP_MIN_DEGREE
     try:
-        got = _echelon_integral(M._r, m, n, bits if capped else None, rows, scaling=full)
+        got = _echelon_integral(M._r, m, n, bits if capped else None, scaling=full)
     except CoefficientGrowth:
         return None
     if got is not None:
         a, u, pivots = got
     else:
         cap = elimination_cap(M._r, bits) if capped else None
-        a = dn.copy(M._r) if rows is None else rows
+        a = dn.copy(M._r)
         u = dn.identity(m)
         try:
             pivots = row_echelon(a, u, m, n, bit_cap=cap, xgcd_rows=xgcd_rows, small_lead_ties=True)
@@ -495,7 +509,7 @@ INTEGRAL_MIN_ENTRIES = 60
 
 
 def _echelon_integral(
-    a: dn.Rows, m: int, n: int, cap_bits: int | None, rows: dn.Rows | None = None, scaling: bool = True
+    a: dn.Rows, m: int, n: int, cap_bits: int | None, scaling: bool = True
 ) -> tuple[dn.Rows, dn.Rows, list[int]] | None:
     """:func:`row_echelon` with transform and :func:`normalise` of the m×n rows ``a``
     fraction free over Z[δ] (:mod:`uio_ring.ring._integral`: the same steps with each row
@@ -506,9 +520,7 @@ def _echelon_integral(
     is first multiplied by their least common multiple c (U then starts as diag(c)).
     Raises :class:`CoefficientGrowth` when the elimination stops on its cap
     ``cap_bits + 4·max_bits(a)`` (its own, lighter test; no cap when ``cap_bits`` is
-    None), with ``rows`` (when given) set to the half-eliminated rows at that point:
-    nonzero constant multiples of unimodular combinations of the rows of M, from which
-    the caller finishes H (unique) without transform."""
+    None)."""
     if m * n < INTEGRAL_MIN_ENTRIES:
         return None
     z, scales = zi.to_integer_rows(a)
@@ -516,10 +528,6 @@ def _echelon_integral(
     cap = None if cap_bits is None else cap_bits + 4 * zi.max_bits(z)
     try:
         pivots = zi.row_echelon_int(z, uz, m, n, bit_cap=cap, scaling=scaling)
-    except CoefficientGrowth:
-        if rows is not None:
-            rows[:] = zi.to_rational_rows(z)
-        raise
     except zi.Scaled:
         return None
     zi.normalise_int(z, uz, pivots)
