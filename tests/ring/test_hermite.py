@@ -513,3 +513,20 @@ def test_tall_matrix_of_high_degree_takes_its_weak_popov_form_for_h(monkeypatch)
     assert calls == [(4, 3)]
     assert h.H[:3, :] == hermite(R).H and h.H[3, :].is_zero()
     assert_popov(h.U[3:, :])
+
+
+@given(st.data())
+def test_hermite_rows_by_reduction_are_those_of_the_elimination(data):
+    """The nonzero rows of H through the weak Popov form (square nonsingular core, or a
+    rank-deficient one eliminated without transform) equal those of the elimination."""
+    import importlib
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    m = data.draw(st.integers(2, 5))
+    n = data.draw(st.integers(1, m))
+    M = data.draw(st.one_of(dense_matrices(rows=m, cols=n, max_degree=3), rank_deficient_matrices(rows=m, cols=n)
+                            if min(m, n) >= 2 else dense_matrices(rows=m, cols=n, max_degree=3)))
+    rows, pivots = hermite_module._hermite_rows_by_reduction(M)
+    ref = hermite_module.hermite_by_elimination(M)
+    assert tuple(pivots) == ref.pivots
+    assert PolyMatrix._new(rows, len(rows), n, "d") == ref.H[: ref.rank, :] if ref.rank else rows == []

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import flint
 
+from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring import _integral as zi
@@ -271,7 +272,17 @@ def _hermite_by_pivot_block(M: PolyMatrix, tries: int = 3) -> HermiteResult | No
         return None
     J = [next(j for j in range(n) if rref[i, j] != 0) for i in range(m)]
     block = hermite(PolyMatrix._new([[row[j] for j in J] for row in M._r], m, m, M.var))
-    H = dn.matmul(block.U._r, M._r, m, m, n)
+    # H's columns J are the block's Hermite form: only the others need the product U·M
+    # (a 15×16 of degree 16 with U of degree ~240: 26 s for every column, 1.7 s for one)
+    chosen = set(J)
+    rest = [j for j in range(n) if j not in chosen]
+    other = dn.matmul(block.U._r, [[row[j] for j in rest] for row in M._r], m, m, len(rest))
+    H = [[bk.ZERO] * n for _ in range(m)]
+    for i in range(m):
+        for k, j in enumerate(J):
+            H[i][j] = block.H._r[i][k]
+        for k, j in enumerate(rest):
+            H[i][j] = other[i][k]
     if any(H[i][j] for i in range(m) for j in range(J[i])):
         return None
     return HermiteResult(PolyMatrix._new(H, m, n, M.var), block.U, m, tuple(J))
@@ -400,7 +411,7 @@ def _hermite_rows_by_reduction(M: PolyMatrix) -> tuple[dn.Rows, list[int]]:
     reduced = dn.copy(M._r)
     k = len(dn.weak_popov(reduced))
     res = hermite(PolyMatrix._new(reduced[:k], k, n, M.var))
-    return res.H._r[: res.rank], list(res.pivots)
+    return res.H._r, list(res.pivots)
 
 
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
