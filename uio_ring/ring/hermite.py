@@ -407,7 +407,7 @@ def _hermite_rows_by_reduction(M: PolyMatrix) -> tuple[dn.Rows, list[int]]:
     >>> _hermite_rows_by_reduction(PolyMatrix([["d", 1], ["d**2", "d"], [1, 0]]))
     ([[1, 0], [0, 1]], [0, 1])
     """
-    m, n = M.shape
+    n = M.cols
     reduced = dn.copy(M._r)
     k = len(dn.weak_popov(reduced))
     res = hermite(PolyMatrix._new(reduced[:k], k, n, M.var))
@@ -425,6 +425,8 @@ def elimination_cap(rows: dn.Rows, base: int = ELIMINATION_BITS) -> int:
     """The bit cap of an elimination that gives way to a better path once it swells:
     ``base + 4·max_bits(rows)``, relative to the input's own coefficients."""
     return base + 4 * max_bits(rows)
+
+
 #: The uncapped elimination with transform for H ≠ [I; 0] only up to this δ-degree of M
 #: (remainder sequences of higher degree can swell over Q: a 5×4 of degree 32 in a
 #: W-step of ``uio-ring check``, 28 s against 1.9 s for the Toeplitz systems).
@@ -471,8 +473,8 @@ def _hermite_by_small_elimination(
     the result is the same H and U as from the Toeplitz nullspace, which costs
     O(N³) word operations per prime whatever the coefficients (40× slower there).
     Generic tall matrices swell to thousands of bits within a few columns: the
-    cap stops those early and the caller takes the Toeplitz path.  ``xgcd_rows``: see :func:`row_echelon` (the rational
-    elimination only).  ``full``: the elimination for H ≠ [I; 0], under the runaway
+    cap stops those early and the caller takes the Toeplitz path.  ``xgcd_rows``: see
+    :func:`row_echelon` (the rational elimination only).  ``full``: the elimination for H ≠ [I; 0], under the runaway
     guard ``FULL_ELIMINATION_BITS`` instead of ``ELIMINATION_BITS``, and fraction free over
     Z[δ] (otherwise the integral elimination gives way to the rational one at the first
     row it would scale, whose cap stops a swelling elimination sooner).  ``capped``:

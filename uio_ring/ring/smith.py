@@ -13,8 +13,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import flint
-
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._column_basis import full_rank_core
@@ -253,15 +251,10 @@ SMITH_ELIMINATION_BITS = 1024
 
 def _smith_by_hermite(M: PolyMatrix) -> SmithResult:
     """:func:`smith` through Hermite forms and their unit pivots (see
-    :mod:`uio_ring.ring._smith_by_hermite`), with the kernel rows of U and V normalised."""
-    m, n = M.shape
-
-    def euclidean(a: dn.Rows, rows: int, cols: int) -> DiagonalForm:
-        s = _smith_by_elimination(PolyMatrix._new(a, rows, cols, M.var))
-        return DiagonalForm([s.S._r[i][i] for i in range(s.rank)], s.U._r, dn.transpose(s.V._r, cols, cols))
-
-    d = diagonal_form_by_hermite(M._r, m, n, M.var, euclidean)
-    return _normalised_result(M, d.factors, d.u, d.vt)
+    :mod:`uio_ring.ring._smith_by_hermite`; a core without unit pivots by the elimination),
+    with the kernel rows of U and V normalised."""
+    d = diagonal_form_by_hermite(M._r, M.rows, M.cols, M.var, _diagonal_form_by_elimination)
+    return _normalised_result(M, d)
 
 
 def smith_by_elimination(M: PolyMatrix) -> SmithResult:
@@ -272,24 +265,30 @@ def smith_by_elimination(M: PolyMatrix) -> SmithResult:
 def _smith_by_elimination(M: PolyMatrix, bit_cap: int | None = None) -> SmithResult:
     """:func:`smith_by_elimination`; with ``bit_cap``, :class:`CoefficientGrowth` as soon as
     an echelon pass outgrows it (the caller then has a better path)."""
-    m, n = M.shape
+    return _normalised_result(M, _diagonal_form_by_elimination(M._r, *M.shape, bit_cap))
+
+
+def _diagonal_form_by_elimination(a: dn.Rows, m: int, n: int, bit_cap: int | None = None) -> DiagonalForm:
+    """The Smith form of the m×n rows ``a`` by alternating echelon forms, divisibility
+    steps and monic factors, before the kernel parts of U and V are normalised."""
     u = dn.identity(m)
     vt = dn.identity(n)
-    a, r = _diagonalise(dn.copy(M._r), u, vt, m, n, bit_cap)
-    _fix_divisibility(a, u, vt, r)
+    d, r = _diagonalise(dn.copy(a), u, vt, m, n, bit_cap)
+    _fix_divisibility(d, u, vt, r)
     for i in range(r):
-        c = bk.lc(a[i][i])
+        c = bk.lc(d[i][i])
         if c != 1:
-            a[i][i] = a[i][i] / c
+            d[i][i] = d[i][i] / c
             dn.row_divide(u, i, c)
-    return _normalised_result(M, [a[i][i] for i in range(r)], u, vt)
+    return DiagonalForm([d[i][i] for i in range(r)], u, vt)
 
 
-def _normalised_result(M: PolyMatrix, factors: list[flint.fmpq_poly], u: dn.Rows, vt: dn.Rows) -> SmithResult:
-    """The :class:`SmithResult` of ``U·M·V = diag(factors)`` (``vt`` = Vᵀ; monic factors), with
-    the kernel rows of U and of Vᵀ replaced by the Popov bases of M's left and right kernels
-    and the other rows reduced modulo them (:func:`~uio_ring.ring._echelon.reduce_transform`)."""
+def _normalised_result(M: PolyMatrix, d: DiagonalForm) -> SmithResult:
+    """The :class:`SmithResult` of ``U·M·V = diag(factors)`` (``d``), with the kernel rows
+    of U and of Vᵀ replaced by the Popov bases of M's left and right kernels and the other
+    rows reduced modulo them (:func:`~uio_ring.ring._echelon.reduce_transform`)."""
     m, n, var = M.rows, M.cols, M.var
+    factors, u, vt = d.factors, d.u, d.vt
     r = len(factors)
     reduce_transform(u, r, popov_left_kernel(M._r, m, n) if r < m else None)
     reduce_transform(vt, r, popov_left_kernel(dn.transpose(M._r, m, n), n, m) if r < n else None)
