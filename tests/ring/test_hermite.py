@@ -282,6 +282,45 @@ def test_small_elimination_equals_the_toeplitz_path_on_columns_of_unimodular_mat
     assert hermite(M).U == small.U
 
 
+
+@heavy()
+@given(st.data())
+def test_small_elimination_without_zero_rows_gives_the_normalised_form(data):
+    """Zero rows are left out of the elimination and come back as unit kernel rows:
+    H, the Popov kernel rows (the units merged with the other rows' kernel in pivot
+    order) and the reduced top rows are unique, so the result equals the elimination of
+    the whole matrix, with or without the cap and the runaway guard."""
+    from uio_ring.ring.hermite import _hermite_by_small_elimination, hermite_by_elimination
+
+    N = data.draw(st.one_of(matrices(1, 4, 1, 4), rank_deficient_matrices(min_rows=2, max_rows=4, max_cols=4)))
+    rows = [N[i, :] for i in range(N.rows)]
+    for _ in range(data.draw(st.integers(1, 3))):
+        rows.insert(data.draw(st.integers(0, len(rows))), PolyMatrix.zeros(1, N.cols))
+    M = PolyMatrix.vstack(*rows)
+    got = _hermite_by_small_elimination(M, full=data.draw(st.booleans()))
+    assert got is not None  # below the cap's entries and degree: no cap
+    ref = hermite_by_elimination(M)
+    assert got.H == ref.H and got.U == ref.U and got.pivots == ref.pivots and got.rank == ref.rank
+    assert got.U @ M == got.H
+    assert_unimodular(got.U, M.rows)
+    assert_popov(got.U[got.rank:, :])
+
+
+def test_zero_rows_stay_out_of_the_elimination(monkeypatch):
+    """The elimination runs on the nonzero rows only (a spy on ``row_echelon``): two zero
+    rows of a 5×3 leave a 3×3, whose transform has no kernel rows to normalise."""
+    import importlib
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    seen = []
+    real = hermite_module.row_echelon
+    monkeypatch.setattr(hermite_module, "row_echelon", lambda a, *args, **kw: seen.append(len(a)) or real(a, *args, **kw))
+    M = PolyMatrix([["d", 1, 0], [0, 0, 0], ["d**2", "d", "d + 1"], [0, 0, 0], [1, "d", 2]])
+    got = hermite_module._hermite_by_small_elimination(M)
+    assert seen == [3]
+    assert got.U @ M == got.H and got.rank == 3
+    assert got.U[3:, :] == PolyMatrix([[0, 1, 0, 0, 0], [0, 0, 0, 1, 0]])
+
 def test_small_elimination_gives_way_when_coefficients_swell():
     """A random 12×8 integer matrix of degree 2: Euclidean elimination over Q reaches
     thousands of bits, the capped attempt returns None and hermite takes the

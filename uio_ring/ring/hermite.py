@@ -19,8 +19,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import flint
-
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
@@ -295,7 +293,8 @@ def _zero_columns(M: PolyMatrix) -> list[int]:
 
 def _without_columns(M: PolyMatrix, drop: list[int]) -> PolyMatrix:
     """M without the columns ``drop``."""
-    keep = [j for j in range(M.cols) if j not in set(drop)]
+    gone = set(drop)
+    keep = [j for j in range(M.cols) if j not in gone]
     return PolyMatrix._new([[row[j] for j in keep] for row in M._r], M.rows, len(keep), M.var)
 
 
@@ -306,16 +305,26 @@ def _with_zero_columns(res: HermiteResult, zero_columns: list[int], n: int) -> H
     elimination of a tall rank-deficient M can swell on columns it cannot use: the
     matching matrix ``[[CB, D], [D, 0]]`` of an 8-state system with 8 outputs, D = 0 and
     δ-degree 16 (16×8, four zero columns, degree 32): 114 s, against 0.5 s without them."""
-    zero = set(zero_columns)
-    keep = [j for j in range(n) if j not in zero]
-    rows = []
-    for row in res.H._r:
-        full = list(row)
-        for j in zero_columns:  # ascending: each lands at its own index
-            full.insert(j, flint.fmpq_poly())
-        rows.append(full)
-    H = PolyMatrix._new(rows, res.H.rows, n, res.H.var)
+    keep, place = _places(zero_columns, n)
+    H = PolyMatrix._new(_spread(res.H._r, place), res.H.rows, n, res.H.var)
     return HermiteResult(H, res.U, res.rank, tuple(keep[j] for j in res.pivots))
+
+
+def _places(gaps: list[int], n: int) -> tuple[list[int], list[int]]:
+    """``(keep, place)`` for n positions of which ``gaps`` are left out: the kept
+    positions in order, and for each position its index among them (−1 for a gap)."""
+    gone = set(gaps)
+    keep = [j for j in range(n) if j not in gone]
+    place = [-1] * n
+    for k, j in enumerate(keep):
+        place[j] = k
+    return keep, place
+
+
+def _spread(rows: dn.Rows, place: list[int]) -> dn.Rows:
+    """Rows whose entry j is entry ``place[j]`` of the given row, zero where it is −1."""
+    z = bk.ZERO
+    return [[row[k] if k >= 0 else z for k in place] for row in rows]
 
 
 #: Square matrices of at most this many rows, when M(0) is nonsingular, are eliminated
@@ -461,6 +470,7 @@ def _hermite_by_small_elimination(
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
     None as soon as a coefficient of the elimination exceeds ``ELIMINATION_BITS +
     4·max_bits(M)`` bits (no cap below ``CAP_MIN_ENTRIES`` entries and ``CAP_MIN_DEGREE``).
+    Zero rows of M stay out of the elimination (:func:`_with_zero_rows`).
 
     When the Euclidean elimination keeps its coefficients small (a tall M made of
     columns of a unimodular matrix: 22×20 of degree 2 ends with 22-bit
@@ -479,7 +489,7 @@ def _hermite_by_small_elimination(
     Z[δ] (otherwise the integral elimination gives way to the rational one at the first
     row it would scale, whose cap stops a swelling elimination sooner).  ``capped``:
     whether the cap applies (default: from ``CAP_MIN_ENTRIES`` entries or
-    ``CAP_MIN_DEGREE`` on).
+    ``CAP_MIN_DEGREE`` on; with ``full``, from ``CAP_MIN_ENTRIES`` nonzero-row entries).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"]])
@@ -488,9 +498,20 @@ def _hermite_by_small_elimination(
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, 1, -1]]))
     """
     m, n = M.shape
+    zero_rows = [i for i, row in enumerate(M._r) if not any(row)]
+    if zero_rows and len(zero_rows) < m:
+        gone = set(zero_rows)
+        kept = PolyMatrix._new([row for i, row in enumerate(M._r) if i not in gone], m - len(gone), n, M.var)
+        if capped is None and not full:  # the path-choosing cap: from M's own shape
+            capped = _capped(M)
+        got = _hermite_by_small_elimination(kept, xgcd_rows=xgcd_rows, full=full, capped=capped)
+        return None if got is None else _with_zero_rows(got, zero_rows, m)
     bits = FULL_ELIMINATION_BITS if full else ELIMINATION_BITS
     if capped is None:
-        capped = m * n >= CAP_MIN_ENTRIES or dn.mat_degree(M._r) >= CAP_MIN_DEGREE
+        # the runaway guard of the full elimination (δ-degree ≤ ELIMINATION_MAX_DEGREE)
+        # by the number of entries only: the sparse 8×8 of bench_ring, its five nonzero
+        # rows 5×7, 54 → 41 µs without it
+        capped = m * n >= CAP_MIN_ENTRIES if full else _capped(M)
     try:
         got = _echelon_integral(M._r, m, n, bits if capped else None, scaling=full)
     except CoefficientGrowth:
@@ -514,6 +535,39 @@ def _hermite_by_small_elimination(
         pivots=tuple(pivots),
     )
 
+
+
+def _capped(M: PolyMatrix) -> bool:
+    """Whether the path-choosing cap of :func:`_hermite_by_small_elimination` applies: from
+    ``CAP_MIN_ENTRIES`` entries or δ-degree ``CAP_MIN_DEGREE`` on."""
+    return M.rows * M.cols >= CAP_MIN_ENTRIES or dn.mat_degree(M._r) >= CAP_MIN_DEGREE
+
+
+def _with_zero_rows(res: HermiteResult, zero_rows: list[int], m: int) -> HermiteResult:
+    """The Hermite form of M from that of M without its zero rows (``res``, of the other
+    rows in their order): H gets zero rows at the bottom; the unit rows e_z of the zero
+    rows z join the kernel rows of U, and the rows of U are spread over M's rows.  The
+    result is the normalised one: the e_z are Popov rows of degree 0 whose columns are
+    zero in every other row, so with the other kernel rows (zero in column z) they form
+    the Popov basis of M's left kernel (sorted by pivot degree, then position, as
+    :func:`~uio_ring.ring._dense.popov` sorts), and the top rows, zero in column z, are
+    reduced modulo it.  The sparse 8×8 of ``bench_ring`` (three zero rows, one zero
+    column) eliminates 5 rows instead of 8 and has no kernel left to normalise."""
+    # column i of the new U: column place[i] of res.U, or zero (-1) for a zero row i
+    u = _spread(res.U._r, _places(zero_rows, m)[1])
+    r = res.rank
+    z = bk.ZERO
+    kernel = [[bk.ONE if c == i else z for c in range(m)] for i in zero_rows]  # sorted
+    if r < len(u):
+        kernel = sorted(u[r:] + kernel, key=dn.leading_position)
+    n = res.H.cols
+    H = res.H._r + dn.zeros(len(zero_rows), n)
+    return HermiteResult(
+        H=PolyMatrix._new(H, m, n, res.H.var),
+        U=PolyMatrix._new(u[:r] + kernel, m, m, res.U.var),
+        rank=r,
+        pivots=res.pivots,
+    )
 
 #: The integral elimination from this many entries of M on (the 6×4 of Zheng et al.:
 #: 0.096 ms against 0.091 ms over Q; 10×8 columns of a unimodular matrix: 0.88 against
