@@ -504,8 +504,8 @@ def _hermite_by_small_elimination(
         kept = PolyMatrix._new([row for i, row in enumerate(M._r) if i not in gone], m - len(gone), n, M.var)
         if capped is None and not full:  # the path-choosing cap: from M's own shape
             capped = _capped(M)
-        got = _hermite_by_small_elimination(kept, xgcd_rows=xgcd_rows, full=full, capped=capped)
-        return None if got is None else _with_zero_rows(got, zero_rows, m)
+        res = _hermite_by_small_elimination(kept, xgcd_rows=xgcd_rows, full=full, capped=capped)
+        return None if res is None else _with_zero_rows(res, zero_rows, m)
     bits = FULL_ELIMINATION_BITS if full else ELIMINATION_BITS
     if capped is None:
         # the runaway guard of the full elimination (δ-degree ≤ ELIMINATION_MAX_DEGREE)
