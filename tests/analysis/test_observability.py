@@ -278,10 +278,10 @@ def test_new_rows_do_not_carry_the_left_inverse_size():
     # C B is 3×2 with a left inverse X of ≈ 1.3 kbit numerators; Δ_k B·X reduced modulo
     # the kernel row keeps every Δ_k below that size (Δ_k B·X itself: 1.3–5.2 kbit rows)
     from uio_ring.ring import _backend as bk
-    from uio_ring.ring.hermite import _hermite_by_toeplitz
+    from uio_ring.ring.hermite import _hermite_of_dependent_rows
 
     sys = _random_system(1, 8, 2, 3, 16)
-    h = _hermite_by_toeplitz(sys.C @ sys.B, min_rows=0)
+    h = _hermite_of_dependent_rows(sys.C @ sys.B, min_rows=0)
     X = h.U[0 : h.rank, :]
     x_bits = max(int(p.numer().height_bits()) for row in X._r for p in row)
     rep = unknown_input_observability(sys)

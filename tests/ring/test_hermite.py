@@ -441,7 +441,7 @@ def test_wide_hermite_through_the_pivot_block_equals_the_elimination(data):
     """A wide M of full row rank: H = U·M with U from the Hermite form of the block of its
     pivot columns, read at a point.  The same H, U and pivots as the elimination, or None
     (rank-deficient rows, or a point where a column falls into the span of the earlier
-    ones); hermite itself takes that path from 6 rows on."""
+    ones); hermite itself takes that path from 3 rows on, at rows·degree ≥ 16."""
     import importlib
 
     hm = importlib.import_module("uio_ring.ring.hermite")
@@ -489,6 +489,27 @@ def test_wide_hermite_at_the_pivot_block_sizes(M):
     ref = hm.hermite_by_elimination(M)
     assert (r.H, r.U, r.rank, r.pivots) == (ref.H, ref.U, ref.rank, ref.pivots)
 
+
+
+@pytest.mark.parametrize("m, degree", [(3, 8), (5, 16)])
+def test_wide_matrices_of_few_rows_and_high_degree_take_the_pivot_block(monkeypatch, m, degree):
+    """m×(m+1) of degree 8 and 16 (rows·degree ≥ 16 from 3 rows: 5×6 of degree 16, 0.27 s
+    for the elimination, 0.03 s here): the pivot-block path (spy), whose H and U (unique:
+    full row rank) equal the elimination's."""
+    import importlib
+    import random
+
+    hm = importlib.import_module("uio_ring.ring.hermite")
+    rng = random.Random(m)
+    M = PolyMatrix.from_coefficients(
+        [[[rng.randint(-3, 3) for _ in range(m + 1)] for _ in range(m)] for _ in range(degree + 1)])
+    calls = []
+    real = hm._hermite_by_pivot_block
+    monkeypatch.setattr(hm, "_hermite_by_pivot_block", lambda A: calls.append(A.shape) or real(A))
+    r = hermite(M)
+    assert calls == [(m, m + 1)]
+    ref = hm.hermite_by_elimination(M)
+    assert (r.H, r.U, r.rank, r.pivots) == (ref.H, ref.U, ref.rank, ref.pivots)
 
 def test_a_lone_entry_column_goes_straight_to_the_elimination_with_transform(monkeypatch):
     """Tall 8×5, sparse, with a column whose only entry has degree 4: H ≠ [I; 0] is proved
@@ -545,8 +566,8 @@ def test_tall_matrix_of_high_degree_takes_its_weak_popov_form_for_h(monkeypatch)
     M = W @ PolyMatrix([[R[i, j] for j in range(3)] for i in range(3)] + [[0, 0, 0]])
     assert is_unimodular(W) and max(M[i, j].degree() for i in range(4) for j in range(3)) >= 45
     calls = []
-    real = hermite_module._hermite_rows_by_reduction
-    monkeypatch.setattr(hermite_module, "_hermite_rows_by_reduction", lambda A: calls.append(A.shape) or real(A))
+    real = hermite_module._hermite_of_reduced_rows
+    monkeypatch.setattr(hermite_module, "_hermite_of_reduced_rows", lambda A: calls.append(A.shape) or real(A))
     monkeypatch.setattr(hermite_module, "ELIMINATION_BITS", -(10**6))  # as if the elimination swelled
     h = check_hermite(M)
     assert calls == [(4, 3)]
@@ -555,7 +576,7 @@ def test_tall_matrix_of_high_degree_takes_its_weak_popov_form_for_h(monkeypatch)
 
 
 @given(st.data())
-def test_hermite_rows_by_reduction_are_those_of_the_elimination(data):
+def test_hermite_of_reduced_rows_is_that_of_the_elimination(data):
     """The nonzero rows of H through the weak Popov form (square nonsingular core, or a
     rank-deficient one eliminated without transform) equal those of the elimination."""
     import importlib
@@ -565,7 +586,50 @@ def test_hermite_rows_by_reduction_are_those_of_the_elimination(data):
     n = data.draw(st.integers(1, m))
     M = data.draw(st.one_of(dense_matrices(rows=m, cols=n, max_degree=3), rank_deficient_matrices(rows=m, cols=n)
                             if min(m, n) >= 2 else dense_matrices(rows=m, cols=n, max_degree=3)))
-    rows, pivots = hermite_module._hermite_rows_by_reduction(M)
+    reduced = hermite_module._hermite_of_reduced_rows(M)
     ref = hermite_module.hermite_by_elimination(M)
-    assert tuple(pivots) == ref.pivots
-    assert PolyMatrix._new(rows, len(rows), n, "d") == ref.H[: ref.rank, :] if ref.rank else rows == []
+    assert reduced.pivots == ref.pivots and reduced.rank == ref.rank
+    assert reduced.H == ref.H[: ref.rank, :] if ref.rank else reduced.H.rows == 0
+
+
+@heavy()
+@given(st.data())
+def test_weak_popov_transform_gives_the_normalised_form(data):
+    """Rank-deficient (or zero) 6×6 … 7×7: U from M's weak Popov transform and the
+    Hermite form of its nonzero rows.  H and the normalised U are unique, so they equal
+    the elimination's."""
+    import importlib
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    m = data.draw(st.integers(6, 7))
+    n = data.draw(st.integers(6, 7))
+    M = data.draw(rank_deficient_matrices(rows=m, cols=n))
+    h = hermite_module._hermite_by_weak_popov(M, hermite_module._hermite_of_reduced_rows(M))
+    ref = hermite_module.hermite_by_elimination(M)
+    assert (h.H, h.U, h.pivots, h.rank) == (ref.H, ref.U, ref.pivots, ref.rank)
+    assert h.U @ M == h.H
+    assert_unimodular(h.U, m)
+    assert_popov(h.U[h.rank:, :])
+
+
+def test_singular_matrix_of_high_degree_takes_the_weak_popov_transform(monkeypatch):
+    """A singular 6×6 of degree 40 (one row the sum of two others): H has pivots of
+    positive degree and M a degree above the elimination's bound, so U comes from M's
+    weak Popov transform (spy; 0.3 s, where the Euclidean elimination, whose cofactors
+    swell with the degree, takes over a minute).  H is that of the five independent
+    rows, and the kernel row is the Popov one."""
+    import importlib
+    import random
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    rng = random.Random(7)
+    A = PolyMatrix.from_coefficients([[[rng.randint(-3, 3) for _ in range(6)] for _ in range(5)] for _ in range(41)])
+    M = PolyMatrix.vstack(A, A[0, :] + A[1, :])
+    calls = []
+    real = hermite_module._hermite_by_weak_popov
+    monkeypatch.setattr(hermite_module, "_hermite_by_weak_popov", lambda *a: calls.append(1) or real(*a))
+    h = hermite(M)
+    assert calls == [1]
+    assert h.U @ M == h.H and is_unimodular(h.U) and is_hermite(h.H)  # U of degree 160: no sympy
+    assert h.rank == 5 and h.U[5, :] == PolyMatrix([[-1, -1, 0, 0, 0, 1]])  # Popov: monic at its last entry
+    assert h.H[:5, :] == hermite(A).H

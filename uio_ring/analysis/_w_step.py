@@ -41,7 +41,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from uio_ring.ring import _dense as dn
-from uio_ring.ring.hermite import _hermite_by_toeplitz, hermite
+from uio_ring.ring.hermite import _hermite_of_dependent_rows, hermite
 from uio_ring.ring.matrix import PolyMatrix
 from uio_ring.ring.row_basis import is_weak_popov, remainder_rows
 
@@ -107,7 +107,7 @@ def eliminate_w(DB: PolyMatrix, DA: PolyMatrix, F: PolyMatrix, G: PolyMatrix,
         return WStep(F, G, DA - DB @ G)
     S = PolyMatrix.vstack(DB, F)
     R = PolyMatrix.vstack(DA, G)
-    herm = _hermite_by_toeplitz(S, min_rows=0) if S.rows and not F.rows else None
+    herm = _hermite_of_dependent_rows(S, min_rows=0) if S.rows and not F.rows else None
     if herm is None:
         herm = hermite(S)
     rho = herm.rank

@@ -119,23 +119,24 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     O(n⁴·deg) rational operations in C).  Smaller square matrices of high degree
     (from 3×3, ``n³·deg ≥ GENERIC_MIN_WORK``: 4×4 from degree 6) take the same two paths
     when the elimination below outgrows its cap (``ELIMINATION_BITS``): a 5×5 of degree 32
-    with entries in [−3, 3], 0.15 s against 11.5 s for the elimination.  Wide M of full row rank (at least
-    ``GENERIC_MIN_SIZE`` rows, rows·δ-degree ≥ ``WIDE_BLOCK_MIN_DEGREES``): the Hermite
-    form of the square block of its pivot columns, read at a point and checked, gives U
-    and ``H = U·M`` (:func:`_hermite_by_pivot_block`).  When ``rank M < rows`` (tall or
-    rank-deficient M) and M has at least ``TOEPLITZ_MIN_ROWS`` rows or a δ-degree above
+    with entries in [−3, 3], 0.15 s against 11.5 s for the elimination.  Wide M of full
+    row rank (at least ``WIDE_BLOCK_MIN_ROWS`` rows, rows·δ-degree ≥
+    ``WIDE_BLOCK_MIN_DEGREES``): the Hermite form of the square block of its pivot
+    columns, read at a point and checked, gives U and ``H = U·M``
+    (:func:`_hermite_by_pivot_block`).  When ``rank M < rows`` (tall or rank-deficient M)
+    and M has at least ``TOEPLITZ_MIN_ROWS`` rows or a δ-degree above
     ``ELIMINATION_MAX_DEGREE``: the elimination below while its coefficients stay small
-    (low degree only); else, when ``H = [I; 0]`` (two compressed
-    maximal minors coprime), ``U = [X; K]`` with K the Popov kernel basis from one
-    block-Toeplitz nullspace and X the solution of ``X·M = I`` reduced modulo
-    K, from one square Toeplitz system (:mod:`uio_ring.ring._kernel_basis`;
-    minimal bases as reduced Gröbner bases, Forney 1975; O(N³) word operations per
-    prime with N = rows·(max minimal index + 1)); when H has pivots of positive degree
-    (singular or rank-deficient M) of δ-degree ≤ ``ELIMINATION_MAX_DEGREE``, the
-    elimination below with only a guard against
-    runaway growth (``FULL_ELIMINATION_BITS``) — H would
-    cost an elimination anyway, and the one with transform is 1.2–5× faster than
-    the Toeplitz systems on rank-deficient 8×8 … 14×12.  Square nonsingular M of at
+    (low degree only); else, when ``H = [I; 0]`` (two compressed maximal minors coprime),
+    ``U = [X; K]`` with K the Popov kernel basis from one block-Toeplitz nullspace and X
+    the solution of ``X·M = I`` reduced modulo K, from one square Toeplitz system
+    (:mod:`uio_ring.ring._kernel_basis`; minimal bases as reduced Gröbner bases, Forney
+    1975; O(N³) word operations per prime with N = rows·(max minimal index + 1)); when H
+    has pivots of positive degree (singular or rank-deficient M): of δ-degree ≤
+    ``ELIMINATION_MAX_DEGREE``, the elimination below with only a guard against runaway
+    growth (``FULL_ELIMINATION_BITS``), else M's weak Popov form with its transform,
+    ``W·M = [R; 0]``, and the Hermite form of R (:func:`_hermite_by_weak_popov`; a
+    singular 16×16 of degree 16: 13 s, against over five minutes for the elimination).
+    Square nonsingular M of at
     most ``PAIRWISE_MAX_ROWS`` rows whose constant term M(0) is nonsingular: pairwise
     extended-gcd steps (as SageMath does; U is unique there).
     Otherwise (and as the fallback): Euclidean elimination column by column with
@@ -173,7 +174,7 @@ def hermite(M: PolyMatrix) -> HermiteResult:
         got, singular = _hermite_square_generic(M)
         if got is not None:
             return got
-    if 0 < m < n and m >= GENERIC_MIN_SIZE and m * dn.mat_degree(M._r) >= WIDE_BLOCK_MIN_DEGREES:
+    if 0 < m < n and m >= WIDE_BLOCK_MIN_ROWS and m * dn.mat_degree(M._r) >= WIDE_BLOCK_MIN_DEGREES:
         wide = _hermite_by_pivot_block(M)
         if wide is not None:
             return wide
@@ -196,7 +197,7 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                 if small is not None:
                     return small
     if m > 0:
-        fast = _hermite_by_toeplitz(M, singular=singular, min_rows=0 if few_rows else None,
+        fast = _hermite_of_dependent_rows(M, singular=singular, min_rows=0 if few_rows else None,
                                     eliminate_first=not few_rows)
         if fast is not None:
             return fast
@@ -228,14 +229,17 @@ def _hermite_square_generic(M: PolyMatrix) -> tuple[HermiteResult | None, bool]:
 
 
 #: Wide M (rows < columns) of full row rank go through the square block of their pivot
-#: columns (:func:`_hermite_by_pivot_block`) from ``GENERIC_MIN_SIZE`` rows and
+#: columns (:func:`_hermite_by_pivot_block`) from ``WIDE_BLOCK_MIN_ROWS`` rows and
 #: rows·δ-degree ``≥ WIDE_BLOCK_MIN_DEGREES`` on.  Measured against the elimination on
 #: random m×n with coefficients in [−3, 3] (ms, elimination / block): 6×7 of degree 2,
 #: 1.3 / 1.6, of degree 4, 6.3 / 4.4, of degree 8, 66 / 20; 8×9 of degree 1, 1.7 / 1.9, of
-#: degree 2, 6.0 / 4.6, of degree 8, 869 / 98; 12×13 of degree 4, 1150 / 204.  Below 6
-#: rows the square block takes the pairwise path, slower at high degree (5×6 of degree 8:
-#: 19 / 32).
+#: degree 2, 6.0 / 4.6, of degree 8, 869 / 98; 12×13 of degree 4, 1150 / 204.  With fewer
+#: rows the block is a small square of high degree (its own capped elimination, then the
+#: evaluation path): 5×6 of degree 8, 16 / 6; of degree 24, 1268 / 73; of degree 40,
+#: 21 000 / 300; 4×5 of degree 4, 0.4 / 0.4; 3×10 of degree 8, 1.0 / 0.5; 3×4 of degree 40,
+#: 158 / 25.  At 2 rows the pairwise extended gcd is as fast.
 WIDE_BLOCK_MIN_DEGREES = 16
+WIDE_BLOCK_MIN_ROWS = 3
 
 
 def _hermite_by_pivot_block(M: PolyMatrix, tries: int = 3) -> HermiteResult | None:
@@ -333,27 +337,32 @@ def _spread(rows: dn.Rows, place: list[int]) -> dn.Rows:
 PAIRWISE_MAX_ROWS = 5
 
 
-def _hermite_by_toeplitz(
+def _hermite_of_dependent_rows(
     M: PolyMatrix, *, min_rows: int | None = None, singular: bool = False, eliminate_first: bool = True
 ) -> HermiteResult | None:
-    """Hermite form with U for ``rank M < rows``, without a transform from elimination.
+    """Hermite form with U for ``rank M < rows`` (tall or rank-deficient M), or None.
 
-    ``U = [X; K]``: K the Popov basis of the left kernel (one block-Toeplitz
-    nullspace), X the solution of ``X·M = H_top`` reduced modulo K (one square
-    Toeplitz system; :func:`~uio_ring.ring._kernel_basis.solve_reduced`), ``H_top``
-    the nonzero rows of H — ``I`` when M has full column rank and two compressed
-    maximal minors are coprime, else from an elimination without transform.  U is
-    unimodular: for any unimodular ``U0 = [X0; K0]`` with ``U0·M = H``, ``X − X0``
-    lies in the kernel (``= Y·K``) and ``K0 = Z·K`` with Z unimodular, so
-    ``U = [[I, Y·Z⁻¹], [0, Z⁻¹]]·U0``.  ``X·M = H_top`` and ``K·M = 0`` are checked
-    exactly inside.  None when a Toeplitz system would be too large, or M has fewer than
-    ``min_rows`` rows (default ``TOEPLITZ_MIN_ROWS``).  ``singular``: the caller has
-    proved M square and singular (its rank is then not computed: it is < rows and
-    < columns, and H comes from elimination).  When the elimination with transform
-    stops on coefficient growth, or M has a δ-degree above ``ELIMINATION_MAX_DEGREE``, H
-    is the Hermite form of M's weak Popov form (:func:`_hermite_rows_by_reduction`; H
-    is unique).  ``eliminate_first=False``: the caller has seen that elimination stop
-    already.
+    When M has full column rank and two compressed maximal minors are coprime, ``H =
+    [I; 0]`` and ``U = [X; K]``: K the Popov basis of the left kernel (one block-Toeplitz
+    nullspace), X the solution of ``X·M = I`` reduced modulo K (one square Toeplitz
+    system; :func:`~uio_ring.ring._kernel_basis.solve_reduced`).  U is unimodular: for
+    any unimodular ``U0 = [X0; K0]`` with ``U0·M = H``, ``X − X0`` lies in the kernel
+    (``= Y·K``) and ``K0 = Z·K`` with Z unimodular, so ``U = [[I, Y·Z⁻¹], [0, Z⁻¹]]·U0``.
+    ``X·M = I`` and ``K·M = 0`` are checked exactly inside; None when a Toeplitz system
+    would be too large.  (Tall M first try the elimination under the tight cap, unless
+    ``eliminate_first=False``: the caller has seen it stop already.)
+
+    Otherwise H has pivots of positive degree: the Euclidean elimination with transform
+    (δ-degree ≤ ``ELIMINATION_MAX_DEGREE``, under the guard ``FULL_ELIMINATION_BITS``),
+    else U from M's weak Popov transform and the Hermite form of its nonzero rows
+    (:func:`_hermite_by_weak_popov`), which is faster than the Toeplitz systems there
+    (singular 8×8 … 16×16 of degree 4 … 16, one or two kernel rows: 1–150× against
+    0.9× at worst; the Toeplitz X does not exist below its size bound when H has a pivot
+    of high degree).
+
+    None when M has fewer than ``min_rows`` rows (default ``TOEPLITZ_MIN_ROWS``).
+    ``singular``: the caller has proved M square and singular (its rank is then not
+    computed: it is < rows and < columns).
     """
     m, n = M.shape
     a = M._r
@@ -374,53 +383,82 @@ def _hermite_by_toeplitz(
             return small
     if top_identity_possible and r == -1:
         r = rank_raw(a, m, n)
-    if top_identity_possible and r == n and coprime_maximal_minors(a, m, n, routing=True):
-        h_top = dn.identity(n)
-        pivots = list(range(n))
-    else:
+    if not (top_identity_possible and r == n and coprime_maximal_minors(a, m, n, routing=True)):
         # H has pivots of positive degree: eliminating for H costs most of what the
-        # transform does, and the elimination with transform is 1.2–5× faster than
-        # that plus the Toeplitz nullspace and solve (rank-deficient 8×8 … 14×12)
-        got = None
+        # transform does; the elimination with transform while it stays small, else the
+        # weak Popov transform
         if dn.mat_degree(a) <= ELIMINATION_MAX_DEGREE:
             got = _hermite_by_small_elimination(M, full=True)
-        if got is not None:
-            return got
-        h_top, pivots = _hermite_rows_by_reduction(M)
-        r = len(pivots)
+            if got is not None:
+                return got
+        return _hermite_by_weak_popov(M, _hermite_of_reduced_rows(M))
     K = popov_left_kernel(a, m, n, min_rows=0)
     if K is None:
         return None
-    X = solve_reduced(a, m, n, K, h_top)
+    X = solve_reduced(a, m, n, K, dn.identity(n))
     if X is None:
         return None
-    H = h_top + dn.zeros(m - r, n)
     return HermiteResult(
-        H=PolyMatrix._new(H, m, n, M.var),
+        H=PolyMatrix._new(dn.identity(n) + dn.zeros(m - n, n), m, n, M.var),
         U=PolyMatrix._new(X + K, m, m, M.var),
-        rank=r,
-        pivots=tuple(pivots),
+        rank=n,
+        pivots=tuple(range(n)),
     )
 
 
-def _hermite_rows_by_reduction(M: PolyMatrix) -> tuple[dn.Rows, list[int]]:
-    """The nonzero rows of H and its pivots, without a transform: M's weak Popov form
-    (Mulders & Storjohann 2003: leading terms cancelled, so degrees only fall), whose
-    nonzero rows R span M's row module and have full row rank, then the Hermite form of R
-    (square nonsingular or wide: the paths by evaluation).  A Euclidean elimination of M
-    itself builds Bézout cofactors whose coefficients swell with the degree: a 4×3 of
-    degree 72 (rows of degree 8, 8, 72, 72, pivots of degree 0, 0, 48; the transposed core
-    of a Smith form) took 260 s, against 8 ms here.
+def _hermite_of_reduced_rows(M: PolyMatrix) -> HermiteResult:
+    """The Hermite form, with its transform, of R: the nonzero rows of M's weak Popov form
+    (Mulders & Storjohann 2003: leading terms cancelled, so degrees only fall).  R spans
+    M's row module and has full row rank, so ``H(M) = [H(R); 0]``; R is square
+    nonsingular or wide, where the paths by evaluation apply.  A Euclidean elimination
+    of M itself builds Bézout cofactors whose coefficients swell with the degree: a 4×3
+    of degree 72 (rows of degree 8, 8, 72, 72, pivots of degree 0, 0, 48; the transposed
+    core of a Smith form) took 260 s, against 8 ms here.
 
     >>> from uio_ring.ring.matrix import PolyMatrix
-    >>> _hermite_rows_by_reduction(PolyMatrix([["d", 1], ["d**2", "d"], [1, 0]]))
-    ([[1, 0], [0, 1]], [0, 1])
+    >>> _hermite_of_reduced_rows(PolyMatrix([["d", 1], ["d**2", "d"], [1, 0]])).H
+    PolyMatrix([[1, 0], [0, 1]])
     """
     n = M.cols
     reduced = dn.copy(M._r)
     k = len(dn.weak_popov(reduced))
-    res = hermite(PolyMatrix._new(reduced[:k], k, n, M.var))
-    return res.H._r, list(res.pivots)
+    return hermite(PolyMatrix._new(reduced[:k], k, n, M.var))
+
+
+def _hermite_by_weak_popov(M: PolyMatrix, reduced: HermiteResult) -> HermiteResult:
+    """Hermite form with U of M from its weak Popov form with the transform: ``W·M =
+    [R; 0]`` (W unimodular, R of full row rank r) and ``U_R·R = H_R``, the result of
+    :func:`_hermite_of_reduced_rows` for M (``reduced``), give ``U = [U_R·W_top; W_bot]``:
+    unimodular, ``U·M = [H_R; 0] = H``, and its last rows span the left kernel (any v with
+    ``v·M = 0`` is ``c·W`` with ``c_top·R = 0``, so ``c_top = 0``).  The kernel rows are then
+    put in Popov form and the top rows reduced modulo them (:func:`reduce_transform`).
+    The weak Popov form is computed again with W: its steps depend on M's rows only, so
+    R is the same.  Mulders–Storjohann: O(r·deg²) row operations.
+
+    Used where the Toeplitz systems of the kernel and of X would be too large: a singular
+    16×16 of degree 16 (entries in [−3, 3], one row the sum of two others; the kernel has
+    degree 0 but X degree 224): 12.7 s, where the Euclidean elimination took over five
+    minutes.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix([["d", 1], ["d**2", "d"], [1, 0]])
+    >>> r = _hermite_by_weak_popov(M, _hermite_of_reduced_rows(M))
+    >>> r.H, r.U @ M == r.H, r.U[2, :]
+    (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, -1, 0]]))
+    """
+    m, n = M.shape
+    a = dn.copy(M._r)
+    w = dn.identity(m)
+    r = len(dn.weak_popov(a, w))
+    u = dn.matmul(reduced.U._r, w[:r], r, r, m) + w[r:]
+    reduce_transform(u, r)
+    H = reduced.H._r + dn.zeros(m - r, n)
+    return HermiteResult(
+        H=PolyMatrix._new(H, m, n, M.var),
+        U=PolyMatrix._new(u, m, m, M.var),
+        rank=r,
+        pivots=reduced.pivots,
+    )
 
 
 #: Elimination first for tall / rank-deficient M while its coefficients stay within
@@ -454,9 +492,13 @@ def _few_rows_of_high_degree(M: PolyMatrix) -> bool:
     return M.rows < TOEPLITZ_MIN_ROWS and dn.mat_degree(M._r) >= CAP_MIN_DEGREE
 
 
-#: The cap of the same elimination when the Toeplitz path would need an elimination
-#: for H anyway (H ≠ [I; 0]): a guard against runaway growth only.
-FULL_ELIMINATION_BITS = 1 << 14
+#: The cap of the same elimination when H ≠ [I; 0] (singular or rank-deficient M, where
+#: the other path is the weak Popov transform, :func:`_hermite_by_weak_popov`).  Measured
+#: (s, cap 2¹⁴ / 2¹¹ / 2⁸ bits above M's own): singular 12×12 of degree 8, 2.70 / 0.37 /
+#: 0.35; 16×16 of degree 4, 1.48 / 0.41 / 0.40; a product of 16×15 and 15×16 of degree 2,
+#: 4.40 / 1.04 / 1.03; but the sparse 12×12 of bench_ring 0.28 / 0.28 / 0.92 and the
+#: rank-deficient 12×12 0.023 / 0.023 / 0.033, whose eliminations pass 2⁸ bits and finish.
+FULL_ELIMINATION_BITS = 1 << 11
 #: Below this many entries of M the elimination runs without that cap: the cap only
 #: chooses between two paths to the same H and U, and on so few columns its test costs
 #: more than any swell it can stop (the 6×4 of Zheng et al.: 17 of 84 µs).
