@@ -545,9 +545,9 @@ def test_a_lone_entry_column_goes_straight_to_the_elimination_with_transform(mon
 def test_tall_matrix_of_high_degree_takes_its_weak_popov_form_for_h(monkeypatch):
     """M = W·[R; 0] with R 3×3 of degree ≤ 2 (det of degree 4) and W unimodular of degree
     ~50, the first elimination stopped as if it swelled: H(M) = H(R) (the same row module)
-    comes from M's weak Popov form — the Euclidean elimination of a 4×3 of degree 72 from
-    a Smith core took 260 s there, the weak Popov form 8 ms.  U·M = H with U unimodular,
-    and the Popov kernel row."""
+    comes from M's weak Popov form, and U from its transform — the Euclidean elimination
+    of a 4×3 of degree 72 from a Smith core took 260 s there, the weak Popov form 8 ms.
+    U·M = H with U unimodular, and the Popov kernel row."""
     import importlib
 
     hermite_module = importlib.import_module("uio_ring.ring.hermite")
@@ -566,8 +566,8 @@ def test_tall_matrix_of_high_degree_takes_its_weak_popov_form_for_h(monkeypatch)
     M = W @ PolyMatrix([[R[i, j] for j in range(3)] for i in range(3)] + [[0, 0, 0]])
     assert is_unimodular(W) and max(M[i, j].degree() for i in range(4) for j in range(3)) >= 45
     calls = []
-    real = hermite_module._hermite_of_reduced_rows
-    monkeypatch.setattr(hermite_module, "_hermite_of_reduced_rows", lambda A: calls.append(A.shape) or real(A))
+    real = hermite_module._hermite_by_weak_popov
+    monkeypatch.setattr(hermite_module, "_hermite_by_weak_popov", lambda A: calls.append(A.shape) or real(A))
     monkeypatch.setattr(hermite_module, "ELIMINATION_BITS", -(10**6))  # as if the elimination swelled
     h = check_hermite(M)
     assert calls == [(4, 3)]
@@ -576,9 +576,9 @@ def test_tall_matrix_of_high_degree_takes_its_weak_popov_form_for_h(monkeypatch)
 
 
 @given(st.data())
-def test_hermite_of_reduced_rows_is_that_of_the_elimination(data):
-    """The nonzero rows of H through the weak Popov form (square nonsingular core, or a
-    rank-deficient one eliminated without transform) equal those of the elimination."""
+def test_weak_popov_transform_gives_the_normalised_form_of_small_matrices(data):
+    """2×1 … 5×5, dense or rank-deficient: H, U, rank and pivots through the weak Popov
+    transform equal the elimination's (H and the normalised U are unique)."""
     import importlib
 
     hermite_module = importlib.import_module("uio_ring.ring.hermite")
@@ -586,10 +586,9 @@ def test_hermite_of_reduced_rows_is_that_of_the_elimination(data):
     n = data.draw(st.integers(1, m))
     M = data.draw(st.one_of(dense_matrices(rows=m, cols=n, max_degree=3), rank_deficient_matrices(rows=m, cols=n)
                             if min(m, n) >= 2 else dense_matrices(rows=m, cols=n, max_degree=3)))
-    reduced = hermite_module._hermite_of_reduced_rows(M)
+    h = hermite_module._hermite_by_weak_popov(M)
     ref = hermite_module.hermite_by_elimination(M)
-    assert reduced.pivots == ref.pivots and reduced.rank == ref.rank
-    assert reduced.H == ref.H[: ref.rank, :] if ref.rank else reduced.H.rows == 0
+    assert (h.H, h.U, h.pivots, h.rank) == (ref.H, ref.U, ref.pivots, ref.rank)
 
 
 @heavy()
@@ -604,7 +603,7 @@ def test_weak_popov_transform_gives_the_normalised_form(data):
     m = data.draw(st.integers(6, 7))
     n = data.draw(st.integers(6, 7))
     M = data.draw(rank_deficient_matrices(rows=m, cols=n))
-    h = hermite_module._hermite_by_weak_popov(M, hermite_module._hermite_of_reduced_rows(M))
+    h = hermite_module._hermite_by_weak_popov(M)
     ref = hermite_module.hermite_by_elimination(M)
     assert (h.H, h.U, h.pivots, h.rank) == (ref.H, ref.U, ref.pivots, ref.rank)
     assert h.U @ M == h.H

@@ -391,7 +391,7 @@ def _hermite_of_dependent_rows(
             got = _hermite_by_small_elimination(M, full=True)
             if got is not None:
                 return got
-        return _hermite_by_weak_popov(M, _hermite_of_reduced_rows(M))
+        return _hermite_by_weak_popov(M)
     K = popov_left_kernel(a, m, n, min_rows=0)
     if K is None:
         return None
@@ -406,43 +406,26 @@ def _hermite_of_dependent_rows(
     )
 
 
-def _hermite_of_reduced_rows(M: PolyMatrix) -> HermiteResult:
-    """The Hermite form, with its transform, of R: the nonzero rows of M's weak Popov form
-    (Mulders & Storjohann 2003: leading terms cancelled, so degrees only fall).  R spans
-    M's row module and has full row rank, so ``H(M) = [H(R); 0]``; R is square
-    nonsingular or wide, where the paths by evaluation apply.  A Euclidean elimination
-    of M itself builds Bézout cofactors whose coefficients swell with the degree: a 4×3
-    of degree 72 (rows of degree 8, 8, 72, 72, pivots of degree 0, 0, 48; the transposed
-    core of a Smith form) took 260 s, against 8 ms here.
+def _hermite_by_weak_popov(M: PolyMatrix) -> HermiteResult:
+    """Hermite form with U of M from its weak Popov form with the transform (Mulders &
+    Storjohann 2003: leading terms cancelled, so degrees only fall; O(r·deg²) row
+    operations): ``W·M = [R; 0]`` with W unimodular and R of full row rank r, which spans
+    M's row module, so ``H = [H_R; 0]`` for the Hermite form ``U_R·R = H_R`` (R square
+    nonsingular or wide: the paths by evaluation), and ``U = [U_R·W_top; W_bot]`` is
+    unimodular with ``U·M = H``; its last rows span the left kernel (any v with ``v·M = 0``
+    is ``c·W`` with ``c_top·R = 0``, so ``c_top = 0``).  The kernel rows are then put in
+    Popov form and the top rows reduced modulo them (:func:`reduce_transform`).
 
-    >>> from uio_ring.ring.matrix import PolyMatrix
-    >>> _hermite_of_reduced_rows(PolyMatrix([["d", 1], ["d**2", "d"], [1, 0]])).H
-    PolyMatrix([[1, 0], [0, 1]])
-    """
-    n = M.cols
-    reduced = dn.copy(M._r)
-    k = len(dn.weak_popov(reduced))
-    return hermite(PolyMatrix._new(reduced[:k], k, n, M.var))
-
-
-def _hermite_by_weak_popov(M: PolyMatrix, reduced: HermiteResult) -> HermiteResult:
-    """Hermite form with U of M from its weak Popov form with the transform: ``W·M =
-    [R; 0]`` (W unimodular, R of full row rank r) and ``U_R·R = H_R``, the result of
-    :func:`_hermite_of_reduced_rows` for M (``reduced``), give ``U = [U_R·W_top; W_bot]``:
-    unimodular, ``U·M = [H_R; 0] = H``, and its last rows span the left kernel (any v with
-    ``v·M = 0`` is ``c·W`` with ``c_top·R = 0``, so ``c_top = 0``).  The kernel rows are then
-    put in Popov form and the top rows reduced modulo them (:func:`reduce_transform`).
-    The weak Popov form is computed again with W: its steps depend on M's rows only, so
-    R is the same.  Mulders–Storjohann: O(r·deg²) row operations.
-
-    Used where the Toeplitz systems of the kernel and of X would be too large: a singular
-    16×16 of degree 16 (entries in [−3, 3], one row the sum of two others; the kernel has
-    degree 0 but X degree 224): 12.7 s, where the Euclidean elimination took over five
-    minutes.
+    A Euclidean elimination of M itself builds Bézout cofactors whose coefficients swell
+    with the degree: a 4×3 of degree 72 (rows of degree 8, 8, 72, 72, pivots of degree 0,
+    0, 48; the transposed core of a Smith form) took 260 s, against 8 ms for H here; a
+    singular 16×16 of degree 16 (entries in [−3, 3], one row the sum of two others) over
+    five minutes, against 13 s here.  The Toeplitz kernel and solve of
+    :func:`_hermite_of_dependent_rows` are slower there, or refuse: X has degree 224.
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([["d", 1], ["d**2", "d"], [1, 0]])
-    >>> r = _hermite_by_weak_popov(M, _hermite_of_reduced_rows(M))
+    >>> r = _hermite_by_weak_popov(M)
     >>> r.H, r.U @ M == r.H, r.U[2, :]
     (PolyMatrix([[1, 0], [0, 1], [0, 0]]), True, PolyMatrix([[d, -1, 0]]))
     """
@@ -450,6 +433,7 @@ def _hermite_by_weak_popov(M: PolyMatrix, reduced: HermiteResult) -> HermiteResu
     a = dn.copy(M._r)
     w = dn.identity(m)
     r = len(dn.weak_popov(a, w))
+    reduced = hermite(PolyMatrix._new(a[:r], r, n, M.var))
     u = dn.matmul(reduced.U._r, w[:r], r, r, m) + w[r:]
     reduce_transform(u, r)
     H = reduced.H._r + dn.zeros(m - r, n)
