@@ -328,6 +328,35 @@ def test_latex():
     assert tex in rl
 
 
+
+@given(st.lists(st.fractions(max_denominator=10**6), min_size=1, max_size=5))
+def test_text_reads_back_in_sympy_and_here(cs):
+    """The text of a polynomial (highest power first, ``d**2/3 - d + 1``) is the same
+    polynomial for sympy and for our own reader."""
+    d = sp.Symbol("d")
+    p = Poly.from_coeffs(cs)
+    text = str(p)
+    assert sp.expand(sp.sympify(text, locals={"d": d}) - sp.Poly(list(reversed(cs)), d, domain="QQ").as_expr()) == 0
+    assert Poly(text) == p
+
+
+def test_text_and_latex_of_coefficients_beyond_pythons_digit_limit():
+    """A 9000-digit numerator and a 5000-digit denominator (Python's ``str(int)`` refuses
+    more than 4300 digits; the transforms of a singular 16×16 of degree 16 have such
+    coefficients): every digit is written, in text and in LaTeX, for polynomial and
+    constant matrices."""
+    from uio_ring.ring.qmatrix import QMatrix
+
+    big, den = 7**10650, 3**10480  # 9000 and 5000 digits
+    tail = str(big % 10**50)  # the last 50 digits, within the limit
+    M = PolyMatrix([[Poly.from_coeffs([Fraction(big, den), 0, -big])]])
+    text, tex = str(M), M.to_latex()
+    assert text.startswith("[-") and f"{tail}*d**2 + " in text
+    assert text.count(tail) == 2 and tex.count(tail) == 2
+    assert len(text) > 2 * 9000 + 5000
+    Q = QMatrix([[Fraction(big, den), 1]])
+    assert Q.to_latex().count(tail) == 1 and str(Q).count(tail) == 1
+
 # ----------------------------------------------------------------------------
 # Poly
 # ----------------------------------------------------------------------------

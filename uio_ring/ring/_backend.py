@@ -159,65 +159,63 @@ def height(p: flint.fmpq_poly) -> int:
     return sum(abs(int(c)).bit_length() for c in num.coeffs()) + int(p.denom()).bit_length()
 
 
-def _fmt_rat(q: Fraction) -> str:
-    return str(q.numerator) if q.denominator == 1 else f"{q.numerator}/{q.denominator}"
+def rat_text(q: flint.fmpq | Fraction) -> str:
+    """``a/b``, or ``a`` when b = 1, for a rational of any size: FLINT writes the digits
+    (Python's own ``str(int)`` refuses more than 4300 digits and takes quadratic time;
+    the transforms of a singular 16×16 of degree 16 have 8000-digit coefficients).
+
+    >>> rat_text(Fraction(-3, 6)), rat_text(flint.fmpq(10) ** 5000)[:3]
+    ('-1/2', '100')
+    """
+    if isinstance(q, Fraction):
+        q = flint.fmpq(q.numerator, q.denominator)
+    return str(q.p) if q.q == 1 else f"{q.p}/{q.q}"
 
 
 def to_str(p: flint.fmpq_poly, var: str, *, power: str = "**", times: str = "*") -> str:
-    """sympy-style text, highest power first: ``2*d**2 - d + 1/3``."""
-    cs = coeffs(p)
-    if not cs:
-        return "0"
-    terms: list[tuple[int, str]] = []
+    """sympy-style text, highest power first: ``2*d**2 - d + 1/3`` (digits by
+    :func:`rat_text`: any size)."""
+    cs = p.coeffs()
+    parts: list[str] = []
     for e in range(len(cs) - 1, -1, -1):
         c = cs[e]
         if c == 0:
             continue
-        sign = -1 if c < 0 else 1
         a = abs(c)
+        num, den = a.p, a.q
         if e == 0:
-            body = _fmt_rat(a)
+            body = rat_text(a)
         else:
             mono = var if e == 1 else f"{var}{power}{e}"
             if a == 1:
                 body = mono
-            elif a.denominator == 1:
-                body = f"{a.numerator}{times}{mono}"
-            elif a.numerator == 1:
-                body = f"{mono}/{a.denominator}"
+            elif den == 1:
+                body = f"{num}{times}{mono}"
+            elif num == 1:
+                body = f"{mono}/{den}"
             else:
-                body = f"{a.numerator}{times}{mono}/{a.denominator}"
-        terms.append((sign, body))
-    first_sign, first = terms[0]
-    out = ("-" if first_sign < 0 else "") + first
-    for sign, body in terms[1:]:
-        out += (" - " if sign < 0 else " + ") + body
-    return out
+                body = f"{num}{times}{mono}/{den}"
+        parts.append(("-" if c < 0 else "") + body if not parts else (" - " if c < 0 else " + ") + body)
+    return "".join(parts) or "0"
 
 
 def to_latex(p: flint.fmpq_poly, sym: str) -> str:
     """LaTeX text, highest power first: ``\\tfrac{1}{3} \\delta^{2} - \\delta``."""
-    cs = coeffs(p)
-    if not cs:
-        return "0"
-    out = ""
+    cs = p.coeffs()
+    parts: list[str] = []
     for e in range(len(cs) - 1, -1, -1):
         c = cs[e]
         if c == 0:
             continue
-        sign = "-" if c < 0 else "+"
         a = abs(c)
-        if a.denominator == 1:
-            num = "" if (a == 1 and e > 0) else str(a.numerator)
+        if a.q == 1:
+            num = "" if (a == 1 and e > 0) else str(a.p)
         else:
-            num = f"\\tfrac{{{a.numerator}}}{{{a.denominator}}}"
+            num = f"\\tfrac{{{a.p}}}{{{a.q}}}"
         mono = "" if e == 0 else (sym if e == 1 else f"{sym}^{{{e}}}")
         body = f"{num} {mono}".strip() if num and mono else (num or mono)
-        if not out:
-            out = ("-" if sign == "-" else "") + body
-        else:
-            out += f" {sign} {body}"
-    return out
+        parts.append(("-" if c < 0 else "") + body if not parts else f" {'-' if c < 0 else '+'} {body}")
+    return "".join(parts) or "0"
 
 
 # --- constant (rational) matrices, used by evaluation-based algorithms -------------

@@ -431,13 +431,13 @@ class QMatrix:
         if self.rows == 0 or self.cols == 0:
             return rf"0_{{{self.rows}\times{self.cols}}}"
 
-        def tex(x: Fraction) -> str:
-            if x.denominator == 1:
-                return str(x.numerator)
+        def tex(x: flint.fmpq) -> str:  # FLINT writes the digits: any size
+            if x.q == 1:
+                return str(x.p)
             sign = "-" if x < 0 else ""
-            return rf"{sign}\frac{{{abs(x.numerator)}}}{{{x.denominator}}}"
+            return rf"{sign}\frac{{{abs(x.p)}}}{{{x.q}}}"
 
-        body = r" \\ ".join(" & ".join(tex(x) for x in r) for r in self.tolist())
+        body = r" \\ ".join(" & ".join(tex(x) for x in r) for r in self._q.tolist())
         return r"\begin{pmatrix} " + body + r" \end{pmatrix}"
 
     def _repr_latex_(self) -> str:
