@@ -632,3 +632,47 @@ def test_singular_matrix_of_high_degree_takes_the_weak_popov_transform(monkeypat
     assert h.U @ M == h.H and is_unimodular(h.U) and is_hermite(h.H)  # U of degree 160: no sympy
     assert h.rank == 5 and h.U[5, :] == PolyMatrix([[-1, -1, 0, 0, 0, 1]])  # Popov: monic at its last entry
     assert h.H[:5, :] == hermite(A).H
+
+
+@given(st.data())
+def test_unimodularity_from_the_hermite_identity_agrees_with_det(data):
+    """``unimodular_given_hermite`` (det U from det T, a minor of M and U's kernel block)
+    against det U itself: on hermite's own U (unimodular), and on U with a kernel row
+    multiplied by δ + c or replaced by another kernel row (U·M = H still holds; det U
+    gains the factor or vanishes)."""
+    from uio_ring.ring._predicates import is_unimodular_raw, unimodular_given_hermite
+
+    M = data.draw(st.one_of(matrices(1, 5, 1, 5), rank_deficient_matrices(min_rows=2, max_rows=5, max_cols=5)))
+    h = hermite(M)
+    m, n = M.shape
+    U = h.U
+    assert unimodular_given_hermite(U._r, M._r, h.H._r, m, n)
+    if h.rank < m:
+        k = data.draw(st.integers(h.rank, m - 1))
+        rows = [U[i, :] for i in range(m)]
+        if data.draw(st.booleans()) or h.rank == m - 1:
+            rows[k] = rows[k] * P(f"d + {data.draw(st.integers(-2, 2))}")
+        else:
+            rows[k] = rows[h.rank + (k == h.rank)]
+        V = PolyMatrix.vstack(*rows)
+        assert V @ M == h.H
+        assert unimodular_given_hermite(V._r, M._r, h.H._r, m, n) is False
+        assert is_unimodular_raw(V._r, m, m) is False
+        assert not dataclasses.replace(h, U=V).verify(M).ok
+
+
+def test_the_certificate_of_a_singular_hermite_form_needs_no_det_of_u(monkeypatch):
+    """verify() proves U unimodular without det U: a spy on det_raw sees only M's r×r
+    minor and U's 1×1 kernel block (a 6×6 of rank 5)."""
+    import importlib
+
+    pred = importlib.import_module("uio_ring.ring._predicates")
+    A = PolyMatrix("[[d, 1, 0, 2, d**2, 1], [1, d, 1, 0, 0, 3], [0, 1, d, 1, 1, 0], "
+                   "[2, 0, 1, d, 0, 1], [d, d, 0, 1, d + 1, 0]]")
+    M = PolyMatrix.vstack(A, A[0, :] * P("d") + A[3, :])
+    h = hermite(M)
+    sizes = []
+    real = pred.det_raw
+    monkeypatch.setattr(pred, "det_raw", lambda a, n: sizes.append(n) or real(a, n))
+    assert h.verify(M).ok
+    assert sorted(sizes) == [1, 5]

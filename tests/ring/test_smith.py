@@ -357,3 +357,33 @@ def test_sparse_singular_smith_goes_through_hermite_forms_when_elimination_swell
     assert calls == [(n, n)]
     assert s.verify(M).ok  # U·M·V = S exactly, det U and det V nonzero constants, S normalised
     assert s.invariant_factors == invariant_factors(M) and s.rank == 9
+
+
+@given(st.data())
+def test_unimodularity_from_the_smith_identity_agrees_with_det(data):
+    """``unimodular_given_smith`` (det U·det V from det D, a minor of M and the kernel
+    blocks of U and V) against det U and det V: on smith's own U and V, and with a kernel
+    row of U or a kernel column of V multiplied by δ + c (U·M·V = S still holds)."""
+    from uio_ring.ring._predicates import is_unimodular_raw, unimodular_given_smith
+
+    M = data.draw(st.one_of(matrices(1, 4, 1, 4), rank_deficient_matrices(min_rows=2, max_rows=4, max_cols=4)))
+    s = smith(M)
+    m, n = M.shape
+    assert unimodular_given_smith(s.U._r, s.V._r, (s.U @ M)._r, M._r, s.S._r, m, n)
+    r = len(s.invariant_factors)
+    f = P(f"d + {data.draw(st.integers(-2, 2))}")
+    U, V = s.U, s.V
+    if r < m and data.draw(st.booleans()):
+        k = data.draw(st.integers(r, m - 1))
+        U = PolyMatrix.vstack(*[U[i, :] * f if i == k else U[i, :] for i in range(m)])
+    elif r < n:
+        k = data.draw(st.integers(r, n - 1))
+        V = PolyMatrix.hstack(*[V[:, j] * f if j == k else V[:, j] for j in range(n)])
+    else:
+        return
+    assert U @ M @ V == s.S
+    assert unimodular_given_smith(U._r, V._r, (U @ M)._r, M._r, s.S._r, m, n) is False
+    assert not (is_unimodular_raw(U._r, m, m) and is_unimodular_raw(V._r, n, n))
+    cert = dataclasses.replace(s, U=U, V=V).verify(M)
+    assert not cert.ok
+    assert [c.ok for c in cert.checks][1:3] == [is_unimodular_raw(U._r, m, m), is_unimodular_raw(V._r, n, n)]

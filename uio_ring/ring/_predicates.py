@@ -41,6 +41,8 @@ __all__ = [
     "det_raw",
     "full_rank_at_zero",
     "is_unimodular_raw",
+    "unimodular_given_hermite",
+    "unimodular_given_smith",
     "is_hermite_raw",
     "is_smith_raw",
     "coprime_maximal_minors",
@@ -114,6 +116,117 @@ def is_unimodular_raw(a: dn.Rows, m: int, n: int) -> bool:
     Precondition: ``a`` has shape m×n (not checked)."""
     return m == n and det_raw(a, n).degree() == 0
 
+
+
+def unimodular_given_hermite(u: dn.Rows, a: dn.Rows, h: dn.Rows, m: int, n: int) -> bool:
+    """Whether the m×m rows ``u`` are unimodular, given ``U·M = H`` exactly for the m×n
+    rows ``a`` (M) and ``h`` (H) in row Hermite form — without det U, whose evaluation
+    needs Σ (row degrees of U) + 1 points: a 16×16 U of degree 112 with 11-kbit
+    coefficients took 49 s by Bareiss.
+
+    With J the pivot columns of H (r of them), T = H[:r, J] (upper triangular, det T the
+    product of the pivots), N = M[:, J] (rank r, as ``U·N = [T; 0]``), R a set of r rows
+    with ``μ = det N[R, :] ≠ 0`` (read at a point) and I the other rows:
+    ``U·[N | E_I] = [[T, U_top[:, I]], [0, U_bot[:, I]]]`` with E_I the unit columns of I,
+    so ``det U · (±μ) = det T · det U[r:, I]``.  Hence U is unimodular exactly when
+    ``det U[r:, I] ≠ 0`` and ``deg det T + deg det U[r:, I] = deg μ``: two determinants of
+    M's small entries and of U's kernel block (one entry for a corank-1 M).
+    Precondition: ``U·M == H`` and H is a row Hermite form (not checked here: the caller's
+    certificate checks both).
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d = bk.from_coeffs([0, 1])
+    >>> a = [[d, bk.ONE], [d * d, d]]                 # rank 1, kernel row (δ, −1)
+    >>> h = [[d, bk.ONE], [bk.ZERO, bk.ZERO]]
+    >>> unimodular_given_hermite([[bk.ONE, bk.ZERO], [d, -bk.ONE]], a, h, 2, 2)
+    True
+    >>> unimodular_given_hermite([[bk.ONE, bk.ZERO], [d * d, -d]], a, h, 2, 2)  # δ·kernel row
+    False
+    """
+    pivots = [j for j in (next((j for j, p in enumerate(row) if p), -1) for row in h) if j >= 0]
+    r = len(pivots)
+    if r == 0:
+        return is_unimodular_raw(u, m, m)
+    N = [[row[j] for j in pivots] for row in a]
+    coeffs = ev.coefficient_mats(N, m, r)
+    for x in ev.first_points(ev.minor_degree_bound(N, m, r, r) + 1):  # one is not a root
+        rref, rank = ev.evaluate(coeffs, x).transpose().rref()
+        if rank == r:
+            break
+    else:  # pragma: no cover - N has rank r, so an r×r minor is nonzero at one of them
+        return is_unimodular_raw(u, m, m)
+    R = [next(c for c in range(m) if rref[i, c] != 0) for i in range(r)]
+    mu = det_raw([N[i] for i in R], r)
+    chosen = set(R)
+    rest = [i for i in range(m) if i not in chosen]
+    d_k = det_raw([[u[i][c] for c in rest] for i in range(r, m)], m - r)
+    if d_k.is_zero():
+        return False
+    deg_t = sum(h[i][j].degree() for i, j in enumerate(pivots))
+    return deg_t + d_k.degree() == mu.degree()
+
+
+def _independent_block(a: dn.Rows, m: int, n: int, r: int) -> tuple[list[int], list[int]] | None:
+    """Rows R and columns C (r each) with ``det M[R, C] ≠ 0``, read at the first point
+    where M has rank r (one exists when rank M = r: a nonzero r×r minor has at most
+    ``minor_degree_bound`` roots); None when none of those points gives rank r."""
+    coeffs = ev.coefficient_mats(a, m, n)
+    for x in ev.first_points(ev.minor_degree_bound(a, m, n, r) + 1):
+        at = ev.evaluate(coeffs, x)
+        rref, rank = at.rref()
+        if rank == r:
+            cols = [next(c for c in range(n) if rref[i, c] != 0) for i in range(r)]
+            sub = bk.mat_from_rows([[at[i, c] for c in cols] for i in range(m)], m, r)
+            rref_t, _ = sub.transpose().rref()
+            return [next(c for c in range(m) if rref_t[i, c] != 0) for i in range(r)], cols
+    return None
+
+
+def unimodular_given_smith(u: dn.Rows, v: dn.Rows, um: dn.Rows, a: dn.Rows, s: dn.Rows, m: int, n: int) -> bool:
+    """Whether U (m×m) and V (n×n) are both unimodular, given ``um = U·M`` and
+    ``U·M·V = S`` exactly for M (``a``, m×n) and S (``s``) in Smith form of rank r —
+    without det U and det V.
+
+    With R, C rows and columns of M where ``μ = det M[R, C] ≠ 0`` (read at a point), I and
+    L the other rows and columns, D = S[:r, :r] and A = U·M: when ``A[r:, :] = 0`` (else V
+    is singular: ``A[r:, :]·V = 0``), ``U·[M[:, C] | E_I]`` is block upper triangular and
+    ``[A[:r, :]; E_Lᵀ]·V`` block lower triangular (E the unit vectors), so ``det U·(±μ) =
+    det A[:r, C]·det U[r:, I]`` and ``det V·(±det A[:r, C]) = det D·det V[L, r:]``.  Hence
+    U and V are both unimodular exactly when ``det U[r:, I]`` and ``det V[L, r:]`` are
+    nonzero and ``deg det D + deg det U[r:, I] + deg det V[L, r:] = deg μ`` (det A[:r, C]
+    cancels; when it is zero, so is det V[L, r:]).  For a square nonsingular M: ``deg det M
+    = Σ deg s_i``.  Determinants of M's small entries and of the kernel blocks only (a
+    16×16 U of degree 112 with 11-kbit coefficients: 49 s for det U by Bareiss).
+    Precondition: ``um == U·M``, ``um·V == S``, S in Smith form (not checked here: the
+    caller's certificate checks them).
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d, o, z = bk.from_coeffs([0, 1]), bk.ONE, bk.ZERO
+    >>> a, s = [[d, o], [d * d, d]], [[o, z], [z, z]]      # rank 1: S = diag(1, 0)
+    >>> u, v, um = [[o, z], [d, -o]], [[z, -o], [o, d]], [[d, o], [z, z]]
+    >>> unimodular_given_smith(u, v, um, a, s, 2, 2)
+    True
+    >>> unimodular_given_smith([[o, z], [d * d, -d]], v, um, a, s, 2, 2)  # δ·kernel row
+    False
+    """
+    r = sum(1 for i in range(min(m, n)) if s[i][i])
+    if any(p for row in um[r:] for p in row):
+        return False
+    if r == 0:
+        return is_unimodular_raw(u, m, m) and is_unimodular_raw(v, n, n)
+    block = _independent_block(a, m, n, r)
+    if block is None:  # pragma: no cover - rank M = r
+        return is_unimodular_raw(u, m, m) and is_unimodular_raw(v, n, n)
+    R, C = block
+    mu = det_raw([[a[i][c] for c in C] for i in R], r)
+    rows_i = [i for i in range(m) if i not in set(R)]
+    cols_l = [c for c in range(n) if c not in set(C)]
+    d_u = det_raw([[u[i][c] for c in rows_i] for i in range(r, m)], m - r)
+    d_v = det_raw([[v[l][c] for c in range(r, n)] for l in cols_l], n - r)
+    if d_u.is_zero() or d_v.is_zero():
+        return False
+    deg_d = sum(s[i][i].degree() for i in range(r))
+    return deg_d + d_u.degree() + d_v.degree() == mu.degree()
 
 def is_hermite_raw(a: dn.Rows, m: int) -> bool:
     """The normalised row Hermite form test of :func:`uio_ring.ring.hermite.is_hermite`.

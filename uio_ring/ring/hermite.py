@@ -40,6 +40,7 @@ from uio_ring.ring._predicates import (
     is_unimodular_raw,
     lone_entry_column,
     rank_raw,
+    unimodular_given_hermite,
 )
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring.certificate import Certificate, Check
@@ -70,14 +71,22 @@ class HermiteResult:
     pivots: tuple[int, ...]
 
     def verify(self, M: PolyMatrix) -> Certificate:
-        """Exact certificate: ``U @ M == H``, U unimodular, H normalised."""
+        """Exact certificate: ``U @ M == H``, U unimodular, H normalised.  When the first
+        and the last hold, U's unimodularity follows from two small determinants
+        (:func:`~uio_ring.ring._predicates.unimodular_given_hermite`) instead of det U."""
         res = self.U @ M - self.H
+        exact, normalised = res.is_zero(), is_hermite(self.H)
+        m = self.U.rows
+        if exact and normalised and self.H.shape == M.shape and self.U.shape == (m, m):
+            unimodular = unimodular_given_hermite(self.U._r, M._r, self.H._r, m, M.cols)
+        else:
+            unimodular = is_unimodular_raw(self.U._r, *self.U.shape)
         return Certificate(
             "Hermite form",
             [
-                Check("U @ M == H", res.is_zero(), None if res.is_zero() else res, "U M = H"),
-                Check("U unimodular", is_unimodular_raw(self.U._r, *self.U.shape), None, "det U is a nonzero constant"),
-                Check("H normalised", is_hermite(self.H), None, "normalised row Hermite form"),
+                Check("U @ M == H", exact, None if exact else res, "U M = H"),
+                Check("U unimodular", unimodular, None, "det U is a nonzero constant"),
+                Check("H normalised", normalised, None, "normalised row Hermite form"),
             ],
         )
 

@@ -37,6 +37,7 @@ from uio_ring.ring._predicates import (
     is_smith_raw,
     is_unimodular_raw,
     rank_raw,
+    unimodular_given_smith,
 )
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring._smith_by_hermite import DiagonalForm, diagonal_form_by_hermite
@@ -133,15 +134,27 @@ class SmithResult:
         return len(self.invariant_factors)
 
     def verify(self, M: PolyMatrix) -> Certificate:
-        """Exact certificate: ``U @ M @ V == S``, U and V unimodular, S in Smith form."""
-        res = self.U @ M @ self.V - self.S
+        """Exact certificate: ``U @ M @ V == S``, U and V unimodular, S in Smith form.  When
+        the first and the last hold, U's and V's unimodularity follows from determinants
+        of a block of M and of U's and V's kernel blocks
+        (:func:`~uio_ring.ring._predicates.unimodular_given_smith`) instead of det U, det V."""
+        um = self.U @ M
+        res = um @ self.V - self.S
+        exact, normalised = res.is_zero(), is_smith(self.S)
+        m, n = M.shape
+        shapes = self.U.shape == (m, m) and self.V.shape == (n, n)
+        if exact and normalised and shapes and unimodular_given_smith(self.U._r, self.V._r, um._r, M._r,
+                                                                      self.S._r, m, n):
+            unimodular = (True, True)
+        else:  # which one fails (or neither, if the identities did not hold)
+            unimodular = (is_unimodular_raw(self.U._r, *self.U.shape), is_unimodular_raw(self.V._r, *self.V.shape))
         return Certificate(
             "Smith form",
             [
-                Check("U @ M @ V == S", res.is_zero(), None if res.is_zero() else res, "U M V = S"),
-                Check("U unimodular", is_unimodular_raw(self.U._r, *self.U.shape), None, "det U is a nonzero constant"),
-                Check("V unimodular", is_unimodular_raw(self.V._r, *self.V.shape), None, "det V is a nonzero constant"),
-                Check("S normalised", is_smith(self.S), None, "diagonal, monic, s_i | s_(i+1)"),
+                Check("U @ M @ V == S", exact, None if exact else res, "U M V = S"),
+                Check("U unimodular", unimodular[0], None, "det U is a nonzero constant"),
+                Check("V unimodular", unimodular[1], None, "det V is a nonzero constant"),
+                Check("S normalised", normalised, None, "diagonal, monic, s_i | s_(i+1)"),
             ],
         )
 
