@@ -571,7 +571,6 @@ def _hermite_by_small_elimination(
     )
 
 
-
 def _capped(M: PolyMatrix) -> bool:
     """Whether the path-choosing cap of :func:`_hermite_by_small_elimination` applies: from
     ``CAP_MIN_ENTRIES`` entries or δ-degree ``CAP_MIN_DEGREE`` on."""
