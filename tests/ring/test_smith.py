@@ -268,7 +268,7 @@ def test_singular_square_beyond_the_guard_takes_the_core(monkeypatch):
     calls = []
     real = smith_module.full_rank_core
     monkeypatch.setattr(smith_module, "full_rank_core", lambda *a: calls.append(a[3]) or real(*a))
-    monkeypatch.setattr(smith_module, "FULL_ELIMINATION_BITS", 8)
+    monkeypatch.setattr(smith_module, "FACTORS_GUARD_BITS", 8)
     A = PolyMatrix("[[d**3 + 2, 3*d - 1, d**2], [d - 5, d**4 + d, 7], [2*d**2, 1, d**3 - 4*d], [d, d + 1, 1]]")
     B = PolyMatrix("[[d + 1, 2, d**2 - 3, d, 1], [3, d**2 + 2*d, 1, d - 1, 2*d], [d**2, d, 5, 1, d + 3]]")
     M = A @ B @ PolyMatrix("[[1, 0, 0, 0, 0], [0, 1, 0, 0, 0], [0, 0, 1, 0, 0], [0, 0, 0, 1, 0], [1, 1, 1, 1, 1]]")

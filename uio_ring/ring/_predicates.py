@@ -117,6 +117,21 @@ def is_unimodular_raw(a: dn.Rows, m: int, n: int) -> bool:
     return m == n and det_raw(a, n).degree() == 0
 
 
+def _independent_block(a: dn.Rows, m: int, n: int, r: int) -> tuple[list[int], list[int]] | None:
+    """Rows R and columns C (r each) with ``det M[R, C] ≠ 0``, read at the first point
+    where M has rank r (one exists when rank M = r: a nonzero r×r minor has at most
+    ``minor_degree_bound`` roots); None when none of those points gives rank r."""
+    coeffs = ev.coefficient_mats(a, m, n)
+    for x in ev.first_points(ev.minor_degree_bound(a, m, n, r) + 1):
+        at = ev.evaluate(coeffs, x)
+        rref, rank = at.rref()
+        if rank == r:
+            cols = [next(c for c in range(n) if rref[i, c] != 0) for i in range(r)]
+            sub = bk.mat_from_rows([[at[i, c] for c in cols] for i in range(m)], m, r)
+            rref_t, _ = sub.transpose().rref()
+            return [next(c for c in range(m) if rref_t[i, c] != 0) for i in range(r)], cols
+    return None
+
 
 def unimodular_given_hermite(u: dn.Rows, a: dn.Rows, h: dn.Rows, m: int, n: int) -> bool:
     """Whether the m×m rows ``u`` are unimodular, given ``U·M = H`` exactly for the m×n
@@ -148,14 +163,10 @@ def unimodular_given_hermite(u: dn.Rows, a: dn.Rows, h: dn.Rows, m: int, n: int)
     if r == 0:
         return is_unimodular_raw(u, m, m)
     N = [[row[j] for j in pivots] for row in a]
-    coeffs = ev.coefficient_mats(N, m, r)
-    for x in ev.first_points(ev.minor_degree_bound(N, m, r, r) + 1):  # one is not a root
-        rref, rank = ev.evaluate(coeffs, x).transpose().rref()
-        if rank == r:
-            break
-    else:  # pragma: no cover - N has rank r, so an r×r minor is nonzero at one of them
+    block = _independent_block(N, m, r, r)
+    if block is None:  # pragma: no cover - N has rank r
         return is_unimodular_raw(u, m, m)
-    R = [next(c for c in range(m) if rref[i, c] != 0) for i in range(r)]
+    R = block[0]
     mu = det_raw([N[i] for i in R], r)
     chosen = set(R)
     rest = [i for i in range(m) if i not in chosen]
@@ -164,22 +175,6 @@ def unimodular_given_hermite(u: dn.Rows, a: dn.Rows, h: dn.Rows, m: int, n: int)
         return False
     deg_t = sum(h[i][j].degree() for i, j in enumerate(pivots))
     return deg_t + d_k.degree() == mu.degree()
-
-
-def _independent_block(a: dn.Rows, m: int, n: int, r: int) -> tuple[list[int], list[int]] | None:
-    """Rows R and columns C (r each) with ``det M[R, C] ≠ 0``, read at the first point
-    where M has rank r (one exists when rank M = r: a nonzero r×r minor has at most
-    ``minor_degree_bound`` roots); None when none of those points gives rank r."""
-    coeffs = ev.coefficient_mats(a, m, n)
-    for x in ev.first_points(ev.minor_degree_bound(a, m, n, r) + 1):
-        at = ev.evaluate(coeffs, x)
-        rref, rank = at.rref()
-        if rank == r:
-            cols = [next(c for c in range(n) if rref[i, c] != 0) for i in range(r)]
-            sub = bk.mat_from_rows([[at[i, c] for c in cols] for i in range(m)], m, r)
-            rref_t, _ = sub.transpose().rref()
-            return [next(c for c in range(m) if rref_t[i, c] != 0) for i in range(r)], cols
-    return None
 
 
 def unimodular_given_smith(u: dn.Rows, v: dn.Rows, um: dn.Rows, a: dn.Rows, s: dn.Rows, m: int, n: int) -> bool:
@@ -219,14 +214,16 @@ def unimodular_given_smith(u: dn.Rows, v: dn.Rows, um: dn.Rows, a: dn.Rows, s: d
         return is_unimodular_raw(u, m, m) and is_unimodular_raw(v, n, n)
     R, C = block
     mu = det_raw([[a[i][c] for c in C] for i in R], r)
-    rows_i = [i for i in range(m) if i not in set(R)]
-    cols_l = [c for c in range(n) if c not in set(C)]
+    chosen_rows, chosen_cols = set(R), set(C)
+    rows_i = [i for i in range(m) if i not in chosen_rows]
+    cols_l = [c for c in range(n) if c not in chosen_cols]
     d_u = det_raw([[u[i][c] for c in rows_i] for i in range(r, m)], m - r)
     d_v = det_raw([[v[l][c] for c in range(r, n)] for l in cols_l], n - r)
     if d_u.is_zero() or d_v.is_zero():
         return False
     deg_d = sum(s[i][i].degree() for i in range(r))
     return deg_d + d_u.degree() + d_v.degree() == mu.degree()
+
 
 def is_hermite_raw(a: dn.Rows, m: int) -> bool:
     """The normalised row Hermite form test of :func:`uio_ring.ring.hermite.is_hermite`.
