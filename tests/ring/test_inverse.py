@@ -9,7 +9,7 @@ for a left inverse reduced modulo a Popov basis of the kernel (see
 from __future__ import annotations
 
 import pytest
-from hypothesis import event, given
+from hypothesis import event, example, given
 from hypothesis import strategies as st
 
 from uio_ring import (
@@ -359,6 +359,7 @@ def test_one_exact_compressed_minor_is_enough_when_its_degree_survives_mod_p(mon
 @given(st.integers(1, 3).flatmap(lambda n: st.one_of(
     dense_matrices(rows=n + 1, cols=n, max_degree=2),
     unimodular_matrices(n + 1, max_degree=2).map(lambda U: U[:, 0:n]))))
+@example(PolyMatrix("[[-1], [1/3]]"))  # the first fixed compression (−3, −9) maps it to 0
 def test_compressed_minor_proofs_are_sound_without_the_top_minor(M):
     from uio_ring.ring import _predicates
     from uio_ring.ring._predicates import coprime_maximal_minors
@@ -427,6 +428,26 @@ def test_a_lone_entry_column_proves_m_is_not_left_unimodular(M, data):
     if claimed:
         assert not is_left_unimodular(T)
         assert not coprime_maximal_minors(a, m, n)
+
+
+def test_routing_takes_modular_evidence_below_the_degree_bound(monkeypatch):
+    """[[δ+1, 0], [0, δ+1], [δ³, δ³+δ+1]]: every maximal minor is a multiple of δ + 1, and a
+    compressed minor has degree 4 below its bound 6, so the modular test proves nothing.
+    The routing answer takes the gcd mod p as evidence (False, no exact minors); the full
+    answer computes them; a left unimodular M of the same shape is still proved."""
+    from uio_ring.ring import _predicates
+    from uio_ring.ring._predicates import coprime_maximal_minors
+
+    M = PolyMatrix("[[d + 1, 0], [0, d + 1], [d**3, d**3 + d + 1]]")
+    exact_calls = []
+    real = _predicates.det_raw
+    monkeypatch.setattr(_predicates, "det_raw", lambda *a: exact_calls.append(1) or real(*a))
+    assert not coprime_maximal_minors(M._r, 3, 2, routing=True)
+    assert exact_calls == []
+    assert not coprime_maximal_minors(M._r, 3, 2)
+    assert exact_calls
+    R = PolyMatrix("[[1, 0], [0, 1], [d**3, d**3 + 1]]")
+    assert coprime_maximal_minors(R._r, 3, 2, routing=True) and is_left_unimodular(R)
 
 
 def test_routing_answer_skips_the_exact_minors_on_modular_evidence(monkeypatch):

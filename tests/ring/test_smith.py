@@ -278,6 +278,54 @@ def test_singular_square_beyond_the_guard_takes_the_core(monkeypatch):
     assert f == smith_module.invariant_factors_by_elimination(M)
 
 
+@st.composite
+def singular_with_factors(draw):
+    """A·D·B: A n×k, B k×n (or (n+2)×k for a tall M), k < n, D = diag of 1s and factors
+    drawn from δ, δ+1, δ−2, so that M has rank k and often non-trivial factors; n ≥ 7, so
+    the row-basis proof is tried (≥ ROW_BASIS_MIN_ENTRIES entries)."""
+    n = draw(st.integers(7, 8))
+    k = draw(st.integers(n - 2, n - 1))
+    rows = n + draw(st.sampled_from([0, 0, 2]))
+    A = draw(dense_matrices(rows=rows, cols=k, max_degree=1))
+    B = draw(dense_matrices(rows=k, cols=n, max_degree=1))
+    extra = draw(st.lists(st.sampled_from(["1", "d", "d + 1", "(d + 1)*(d - 2)"]), min_size=k, max_size=k))
+    return A @ PolyMatrix.diag(*extra) @ B
+
+
+@heavy()
+@given(singular_with_factors())
+def test_invariant_factors_of_singular_products_match_the_elimination(M):
+    """Singular square and tall rank-deficient M, with and without non-trivial factors: the
+    row-basis proof (all ones) and the routes after it give the elimination's factors."""
+    assert invariant_factors(M) == invariant_factors_by_elimination(M)
+
+
+def test_row_basis_proves_trivial_factors_without_elimination(monkeypatch):
+    """A singular 8×8 product of 8×7 and 7×8 factors (degree 1, entries in [−3, 3]): its
+    weak Popov rows have coprime maximal minors, so the factors are seven ones and the
+    elimination never runs; with δ+1 in the middle the proof fails and the elimination
+    finds it."""
+    import random
+
+    rng = random.Random(3)
+
+    def rnd(m, n):
+        return PolyMatrix.from_coefficients(
+            [[[rng.randint(-3, 3) for _ in range(n)] for _ in range(m)] for _ in range(2)])
+
+    A, B = rnd(8, 7), rnd(7, 8)
+    calls = []
+    real = smith_module._invariant_factors_by_elimination
+    monkeypatch.setattr(smith_module, "_invariant_factors_by_elimination",
+                        lambda *a, **k: calls.append(1) or real(*a, **k))
+    assert smith_module._trivial_by_row_basis((A @ B)._r, 8, 8)
+    assert invariant_factors(A @ B) == (P("1"),) * 7 and calls == []
+    M = A @ PolyMatrix.diag(*(["1"] * 6 + ["d + 1"])) @ B
+    assert not smith_module._trivial_by_row_basis(M._r, 8, 8)
+    f = invariant_factors(M)
+    assert f[-1] == P("d + 1") and f[:-1] == (P("1"),) * 6 and calls
+
+
 def _through_hermite(monkeypatch, M: PolyMatrix, calls: list | None = None):
     """smith(M) with the elimination's first attempt made to fail at once, so that a
     rectangular or singular M of ≥ 6 rows and columns goes through the Hermite forms."""

@@ -87,12 +87,15 @@ def coprime_dets_mod_p(a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = Non
     return gcd_degree_mod_p(a1, a2, k, k2=k2, p=p) == 0
 
 
-def gcd_degree_mod_p(a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None, p: int = PRIME) -> int | None:
+def gcd_degree_mod_p(
+    a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None, p: int = PRIME, evidence: bool = False
+) -> int | None:
     """The degree of ``gcd(det a1 mod p, det a2 mod p)`` when ``det a1 mod p`` attains its
     degree bound (then ``det a1`` keeps its leading coefficient mod p), else None; −1 when
     ``det a2 mod p`` is 0.  0 proves ``det a1``, ``det a2`` coprime (module docstring); a
     positive degree is evidence of a common factor over Q — unless p divides their
-    resultant, which is unlikely for a 61-bit p — and proves nothing.
+    resultant, which is unlikely for a 61-bit p — and proves nothing.  ``evidence``: the
+    degree even when the bound is not attained (then not even 0 proves anything).
 
     >>> from uio_ring.ring import _backend as bk
     >>> d = bk.from_coeffs([0, 1])
@@ -100,7 +103,7 @@ def gcd_degree_mod_p(a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None,
     2
     """
     f, bound = det_mod_p(a1, k, p)
-    if f.degree() != bound or bound < 0:
+    if (f.degree() != bound or bound < 0) and not evidence:
         return None
     g, _ = det_mod_p(a2, k if k2 is None else k2, p)
     return -1 if g.is_zero() else int(f.gcd(g).degree())
