@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from uio_ring.cli import main
 from uio_ring.spec import load_design
 
@@ -157,10 +159,10 @@ def test_long_checks_say_what_is_taking_long(tmp_path, capfd, monkeypatch):
     import random
     import time
 
-    import uio_ring.cli.spec_commands as sc
+    import uio_ring.cli.heartbeat as hb
     from uio_ring.design.methods import DesignMethod
 
-    monkeypatch.setattr(sc, "HEARTBEAT_SECONDS", 0.05)
+    monkeypatch.setattr(hb, "HEARTBEAT_SECONDS", 0.05)
     applies = DesignMethod.applies
 
     def slow_applies(self, sys):
@@ -181,6 +183,35 @@ def test_long_checks_say_what_is_taking_long(tmp_path, capfd, monkeypatch):
     assert "uio-ring: still checking method zheng-bejarano (4 states, δ-degree 4" in err and "Ctrl-C stops" in err
 
 
+@pytest.mark.parametrize("command", ["hermite", "smith"])
+def test_the_calculator_says_which_step_is_taking_long(capfd, monkeypatch, command):
+    """At its limits the calculator runs for up to a minute: a line on stderr every
+    HEARTBEAT_SECONDS names the form, the matrix and the step (here shortened, with the
+    form and then the exact check slowed down)."""
+    import time
+
+    import uio_ring.cli.heartbeat as hb
+    import uio_ring.ring as ring
+
+    monkeypatch.setattr(hb, "HEARTBEAT_SECONDS", 0.05)
+    real = getattr(ring, command)
+
+    def slow_form(M):
+        result = real(M)
+        time.sleep(0.4)
+        slow_verify = result.verify
+        object.__setattr__(result, "verify", lambda M: time.sleep(0.4) or slow_verify(M))
+        return result
+
+    monkeypatch.setattr(ring, command, slow_form)
+    assert main([command, "--transforms", "[[d, 1], [d**2 + 1, d]]"]) == 0
+    out, err = capfd.readouterr()
+    form = {"hermite": "Hermite", "smith": "Smith"}[command]
+    assert f"uio-ring: still computing the {form} form of a 2×2 matrix of δ-degree 2" in err
+    assert "— the form and its transform" in err and "— checking U·M" in err
+    assert "check U·M" in out and "True" in out.splitlines()[-1]
+
+
 def test_heartbeat_keeps_beating_while_one_call_holds_the_interpreter(capfd, monkeypatch):
     """One call into C (FLINT's solves can take minutes) holds the interpreter, so no thread
     of this process can print; the heartbeat's lines come from a forked child, with the
@@ -188,12 +219,12 @@ def test_heartbeat_keeps_beating_while_one_call_holds_the_interpreter(capfd, mon
     (N doubles until it does: the machine's speed varies)."""
     import time
 
-    import uio_ring.cli.spec_commands as sc
+    import uio_ring.cli.heartbeat as hb
     from uio_ring.analysis import _progress
 
-    monkeypatch.setattr(sc, "HEARTBEAT_SECONDS", 0.05)
+    monkeypatch.setattr(hb, "HEARTBEAT_SECONDS", 0.05)
     n, held, err = 10**7, 0.0, ""
-    with sc._Heartbeat("testing the heartbeat"):
+    with hb.Heartbeat("testing the heartbeat"):
         with _progress.step("step 7: a long call"):
             while held <= 0.5 and n < 10**11:  # one pass of C, longer until it holds > 0.5 s
                 n *= 2

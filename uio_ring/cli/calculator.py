@@ -8,13 +8,18 @@
 
 The matrix text is bounded while it is parsed: at most ``MAX_SIZE`` rows and
 columns, degree ``MAX_DEGREE`` and the spec loader's coefficient size, so a
-hostile argument is refused before any work (exit 2).
+hostile argument is refused before any work (exit 2).  At those limits a run takes
+up to a minute and prints half a gigabyte with ``--transforms``; every
+``HEARTBEAT_SECONDS`` a line on stderr says which step runs
+(:class:`~uio_ring.cli.heartbeat.Heartbeat`).
 """
 
 from __future__ import annotations
 
 import argparse
 from typing import Any
+
+from uio_ring.cli.heartbeat import Heartbeat
 
 #: Largest degree accepted by the calculator (entries and every intermediate result), as in specs.
 MAX_DEGREE = 16
@@ -55,29 +60,45 @@ def _show(name: str, M: Any, latex: bool) -> str:
     return f"{name} =\n{M}"
 
 
+def _what(form: str, M: Any) -> str:
+    return f"computing the {form} of a {M.rows}×{M.cols} matrix of δ-degree {M.degree()} (exact algebra over Q[δ])"
+
+
 def _run_hermite(args: argparse.Namespace) -> int:
+    from uio_ring.analysis._progress import note
     from uio_ring.ring import hermite
 
     M = _matrix(args.matrix, args.var)
-    r = hermite(M)
-    print(f"rank: {r.rank}   pivot columns: {', '.join(map(str, r.pivots)) or '-'}")
-    print(_show("H", r.H, args.latex))
-    if args.transforms:
-        print(_show("U", r.U, args.latex))
-        print(f"check U·M == H: {r.verify(M).ok}")
+    with Heartbeat(_what("Hermite form", M)):
+        note("the form and its transform U")
+        r = hermite(M)
+        note("writing H")
+        print(f"rank: {r.rank}   pivot columns: {', '.join(map(str, r.pivots)) or '-'}")
+        print(_show("H", r.H, args.latex))
+        if args.transforms:
+            note(f"writing U (δ-degree {r.U.degree()})")
+            print(_show("U", r.U, args.latex))
+            note("checking U·M == H and that U is unimodular")
+            print(f"check U·M == H: {r.verify(M).ok}")
     return 0
 
 
 def _run_smith(args: argparse.Namespace) -> int:
+    from uio_ring.analysis._progress import note
     from uio_ring.ring import smith
 
     M = _matrix(args.matrix, args.var)
-    s = smith(M)
-    facs = ", ".join(str(f) for f in s.invariant_factors) or "(none: zero matrix)"
-    print(f"invariant factors: {facs}")
-    print(_show("S", s.S, args.latex))
-    if args.transforms:
-        print(_show("U", s.U, args.latex))
-        print(_show("V", s.V, args.latex))
-        print(f"check U·M·V == S: {s.verify(M).ok}")
+    with Heartbeat(_what("Smith form", M)):
+        note("the form and its transforms U, V")
+        s = smith(M)
+        note("writing S")
+        facs = ", ".join(str(f) for f in s.invariant_factors) or "(none: zero matrix)"
+        print(f"invariant factors: {facs}")
+        print(_show("S", s.S, args.latex))
+        if args.transforms:
+            note(f"writing U and V (δ-degrees {s.U.degree()} and {s.V.degree()})")
+            print(_show("U", s.U, args.latex))
+            print(_show("V", s.V, args.latex))
+            note("checking U·M·V == S and that U and V are unimodular")
+            print(f"check U·M·V == S: {s.verify(M).ok}")
     return 0

@@ -25,14 +25,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import select
-import signal
 import sys
-import time
 import warnings
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
+
+from uio_ring.cli.heartbeat import Heartbeat
 
 
 def add_parser(sub: Any) -> None:
@@ -123,7 +122,6 @@ def _outputs(args: argparse.Namespace, spec: Any, suffixes: list[str], latex: Pa
 
 def _never_the_spec(spec: Any, targets: list[Path], where: str | None) -> None:
     """No output may replace the spec file itself, not even with --force."""
-    import os
 
     from uio_ring.errors import SpecError
 
@@ -161,116 +159,6 @@ def _rule(title: str) -> str:
     return f"\n== {title} " + "=" * max(0, 60 - len(title))
 
 
-#: Seconds between the "still working" lines of a long check or design.
-HEARTBEAT_SECONDS = 10.0
-
-
-class _Heartbeat:
-    """``with _Heartbeat("checking …"):`` — a line on stderr every :data:`HEARTBEAT_SECONDS`
-    while the block runs, saying what is taking long (exact algebra on large, high-degree
-    systems can take minutes; Ctrl-C stops it cleanly) and the analysis' current step
-    (:mod:`uio_ring.analysis._progress`).
-
-    The lines come from a forked child process that the block's notes reach through a
-    pipe: one call into FLINT can hold the interpreter for minutes (a Dixon solve of a
-    434-unknown system with 31-kbit solutions), and a thread of this process could not
-    print then.  The child ignores Ctrl-C (the parent handles it); it is killed at the end
-    of the block and ends by itself when the parent dies (the pipe closes).  Without ``os.fork``
-    (Windows), a thread prints instead.  Cost: one fork per block (≈ 6 ms)."""
-
-    def __init__(self, what: str):
-        self.what = what
-        self._pid = 0
-        self._pipe = -1
-        self._thread: Any = None
-
-    def __enter__(self) -> _Heartbeat:
-        from uio_ring.analysis import _progress
-
-        if not hasattr(os, "fork"):  # pragma: no cover - Windows
-            self._start_thread()
-            return self
-        sys.stderr.flush()
-        read, write = os.pipe()
-        with warnings.catch_warnings():
-            # Python ≥ 3.12 warns on forking a process with threads (here BLAS's): the child
-            # only reads a pipe and writes stderr, and is killed at the end of the block, so
-            # a lock it inherited held can cost heartbeat lines, never a hang
-            warnings.simplefilter("ignore", DeprecationWarning)
-            pid = os.fork()
-        if pid == 0:  # the child: print until the pipe closes, then leave without cleanup
-            try:
-                os.close(write)
-                _beat(read, self.what, HEARTBEAT_SECONDS, _progress.current())
-            finally:
-                os._exit(0)
-        os.close(read)
-        self._pid, self._pipe = pid, write
-        _progress.set_sink(self._send)
-        return self
-
-    def _send(self, text: str) -> None:
-        try:
-            os.write(self._pipe, " ".join(text.split()).encode()[:1000] + b"\n")
-        except OSError:  # the child is gone: nothing to tell
-            pass
-
-    def _start_thread(self) -> None:  # pragma: no cover - Windows
-        import threading
-
-        from uio_ring.analysis._progress import current
-
-        stop = threading.Event()
-
-        def run() -> None:
-            t0 = time.monotonic()
-            while not stop.wait(HEARTBEAT_SECONDS):
-                print(_beat_line(self.what, time.monotonic() - t0, current()), file=sys.stderr, flush=True)
-
-        self._thread = (threading.Thread(target=run, daemon=True), stop)
-        self._thread[0].start()
-
-    def __exit__(self, *exc: object) -> None:
-        from uio_ring.analysis import _progress
-
-        if self._thread is not None:  # pragma: no cover - Windows
-            self._thread[1].set()
-            return
-        _progress.set_sink(None)
-        os.close(self._pipe)
-        # the child has nothing to finish: stopped at once, so that no state it may have
-        # inherited from another thread (a lock held at the fork) can keep us waiting
-        os.kill(self._pid, signal.SIGKILL)
-        os.waitpid(self._pid, 0)
-
-
-def _beat_line(what: str, seconds: float, note: str) -> str:
-    return f"uio-ring: still {what} ({seconds:.0f} s; Ctrl-C stops)" + (f" — {note}" if note else "")
-
-
-def _beat(pipe: int, what: str, period: float, note: str) -> None:
-    """The heartbeat child: a line every ``period`` seconds with the latest note read from
-    ``pipe`` (one per line), until the pipe closes (the modules it uses are imported by the
-    parent: an import in a forked child could wait on a lock another thread held)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-    t0 = time.monotonic()
-    due = t0 + period
-    pending = b""
-    while True:
-        ready, _, _ = select.select([pipe], [], [], max(due - time.monotonic(), 0.0))
-        if ready:
-            data = os.read(pipe, 65536)
-            if not data:
-                return
-            *lines, pending = (pending + data).split(b"\n")
-            if lines:
-                note = lines[-1].decode(errors="replace")
-            continue
-        now = time.monotonic()
-        os.write(2, (_beat_line(what, now - t0, note) + "\n").encode())
-        due = now + period
-
-
 def _size_text(system: Any) -> str:
     return f"{system.n_x} states, δ-degree {system.max_delay_degree}"
 
@@ -282,7 +170,7 @@ def _checks(spec: Any) -> list[tuple[str, bool, Any, str]]:
     names = list(METHODS) if spec.design.method == "auto" else [spec.design.method]
     out = []
     for name in names:
-        with _Heartbeat(f"checking method {name} ({_size_text(spec.system)}: exact algebra over Q[δ])"):
+        with Heartbeat(f"checking method {name} ({_size_text(spec.system)}: exact algebra over Q[δ])"):
             out.append((name, *get_method(name).applies(spec.system)))
     return out
 
@@ -303,7 +191,7 @@ def _run_check(args: argparse.Namespace) -> int:
         print(report if report is not None else reason)
         show = METHODS[name].preview
         if holds and show is not None:
-            with _Heartbeat(f"previewing method {name} ({_size_text(system)}: exact algebra over Q[δ])"):
+            with Heartbeat(f"previewing method {name} ({_size_text(system)}: exact algebra over Q[δ])"):
                 preview = show(system)
             print(preview)
         any_ok = any_ok or holds
@@ -311,7 +199,7 @@ def _run_check(args: argparse.Namespace) -> int:
         from uio_ring.analysis.observer_classes import observer_options
 
         print(_rule("which unknown-input observers exist (special coordinate basis)"))
-        with _Heartbeat(f"special coordinate basis ({_size_text(system)})"):
+        with Heartbeat(f"special coordinate basis ({_size_text(system)})"):
             print(observer_options(system))
     if not any_ok and spec.design.method != "auto":
         others = [m for m in METHODS.values() if m.name != spec.design.method and m.applies(system)[0]]
@@ -334,7 +222,7 @@ def _design(spec: Any) -> tuple[Any, str, tuple[tuple[str, str], ...]]:
     from uio_ring.errors import DimensionError, DomainError, SimulationError, SpecError
 
     try:
-        with _Heartbeat(f"designing ({spec.design.method}; {_size_text(spec.system)}: exact algebra over Q[δ])"):
+        with Heartbeat(f"designing ({spec.design.method}; {_size_text(spec.system)}: exact algebra over Q[δ])"):
             if spec.design.method == "auto":
                 res = design_auto(spec.system, **spec.design.options)
                 return res.design, res.method, res.skipped
@@ -602,7 +490,6 @@ def _simulate(design: Any, spec: Any, progress: bool | None, *, t_final: float |
     """Run the spec's simulation (up to ``t_final`` when given; without its noise when not
     ``noisy``); an untrustworthy result comes back with ``success=False`` (the caller reports
     it; the API's warning is not printed)."""
-    import warnings
 
     from uio_ring.sim import AccuracyWarning, simulate_observer
 
