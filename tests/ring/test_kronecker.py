@@ -124,3 +124,26 @@ def test_product_on_the_support_equals_entrywise_product(abz):
     br = [[dn.bk.ZERO if zero[m + k + t] or zero[m + 2 * k + j] else b._r[t][j] for j in range(n)] for t in range(k)]
     za, zb = PolyMatrix._new(ar, m, k, "d"), PolyMatrix._new(br, k, n, "d")
     assert matmul_kronecker(ar, br, m, k, n) == _entrywise(za, zb)
+
+
+def test_stack_rule_takes_the_stack_for_unbalanced_factors(monkeypatch):
+    """A factor of high degree and large coefficients times one of low degree and small
+    coefficients (the check U·M = H of a large Hermite form) goes through the coefficient
+    stack beyond STACK_MAX_DEGREE; balanced factors through the Kronecker product; both
+    equal the entry-by-entry product."""
+    import importlib
+
+    kr = importlib.import_module("uio_ring.ring._kronecker")
+    assert kr._stack_wins(240, 16, 6000, 3, 6016) and kr._stack_wins(8, 32, 4, 3000, 3016)
+    assert not kr._stack_wins(16, 16, 1000, 1000, 2008) and not kr._stack_wins(64, 16, 500, 3, 512)
+    calls = []
+    real = kr._matmul_stacked
+    monkeypatch.setattr(kr, "_matmul_stacked", lambda *a: calls.append(a[5:7]) or real(*a))
+    big = PolyMatrix([[f"({(-1) ** (i + j)}*2**300 + {i * j})*d**{30 + i} + {j}/7*d**3 - 1" for j in range(4)]
+                      for i in range(3)])
+    small = PolyMatrix([[f"d**{4 + i} - {j}*d**2 + {i + j}" for j in range(5)] for i in range(4)])
+    assert matmul_kronecker(big._r, small._r, 3, 4, 5) == _entrywise(big, small)
+    assert calls == [(32, 7)]
+    balanced = PolyMatrix([[f"(2**300 + {i})*d**{20 + j} - {j}" for j in range(4)] for i in range(4)])
+    assert matmul_kronecker(balanced._r, balanced._r, 4, 4, 4) == _entrywise(balanced, balanced)
+    assert calls == [(32, 7)]
