@@ -430,35 +430,22 @@ def test_a_lone_entry_column_proves_m_is_not_left_unimodular(M, data):
         assert not coprime_maximal_minors(a, m, n)
 
 
-def test_routing_takes_modular_evidence_below_the_degree_bound(monkeypatch):
-    """[[δ+1, 0], [0, δ+1], [δ³, δ³+δ+1]]: every maximal minor is a multiple of δ + 1, and a
-    compressed minor has degree 4 below its bound 6, so the modular test proves nothing.
-    The routing answer takes the gcd mod p as evidence (False, no exact minors); the full
-    answer computes them; a left unimodular M of the same shape is still proved."""
-    from uio_ring.ring import _predicates
-    from uio_ring.ring._predicates import coprime_maximal_minors
-
-    M = PolyMatrix("[[d + 1, 0], [0, d + 1], [d**3, d**3 + d + 1]]")
-    exact_calls = []
-    real = _predicates.det_raw
-    monkeypatch.setattr(_predicates, "det_raw", lambda *a: exact_calls.append(1) or real(*a))
-    assert not coprime_maximal_minors(M._r, 3, 2, routing=True)
-    assert exact_calls == []
-    assert not coprime_maximal_minors(M._r, 3, 2)
-    assert exact_calls
-    R = PolyMatrix("[[1, 0], [0, 1], [d**3, d**3 + 1]]")
-    assert coprime_maximal_minors(R._r, 3, 2, routing=True) and is_left_unimodular(R)
-
-
-def test_routing_answer_skips_the_exact_minors_on_modular_evidence(monkeypatch):
-    """[[δ, 1], [δ, 1 + δ], [δ², δ]]·[[1, 0], [0, δ − 2]]: every maximal minor is a multiple
-    of δ − 2 (no lone column). The routing answer stops at the modular gcd; the full answer
-    computes exact minors to be sure; both say False, and a left unimodular M is still
-    proved with routing."""
+@pytest.mark.parametrize("M, R", [
+    # every maximal minor a multiple of δ − 2; the first compressed minor at its degree bound
+    ("[[d, 1], [d, 1 + d], [d**2, d]] @ [[1, 0], [0, d - 2]]", "[[1, 0], [d, 1], [0, d]]"),
+    # every maximal minor a multiple of δ + 1; a compressed minor of degree 4 below its
+    # bound 6, so the modular test proves nothing: the gcd mod p is taken as evidence
+    ("[[d + 1, 0], [0, d + 1], [d**3, d**3 + d + 1]]", "[[1, 0], [0, 1], [d**3, d**3 + 1]]"),
+])
+def test_routing_answer_skips_the_exact_minors_on_modular_evidence(monkeypatch, M, R):
+    """M (3×2, no lone column) is not left unimodular.  The routing answer stops at the
+    modular gcd; the full answer computes exact minors to be sure; both say False, and a
+    left unimodular R of the same shape is still proved with routing."""
     from uio_ring.ring import _predicates
     from uio_ring.ring._predicates import coprime_maximal_minors, lone_entry_column
 
-    M = PolyMatrix("[[d, 1], [d, 1 + d], [d**2, d]]") @ PolyMatrix("[[1, 0], [0, d - 2]]")
+    left, _, right = M.partition(" @ ")
+    M = PolyMatrix(left) @ PolyMatrix(right) if right else PolyMatrix(left)
     assert not lone_entry_column(M._r, 3, 2)
     exact_calls = []
     real = _predicates.det_raw
@@ -467,5 +454,5 @@ def test_routing_answer_skips_the_exact_minors_on_modular_evidence(monkeypatch):
     assert exact_calls == []
     assert not coprime_maximal_minors(M._r, 3, 2)
     assert exact_calls
-    R = PolyMatrix("[[1, 0], [d, 1], [0, d]]")
+    R = PolyMatrix(R)
     assert coprime_maximal_minors(R._r, 3, 2, routing=True) and is_left_unimodular(R)
