@@ -384,8 +384,9 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
             if facs is not None:
                 return tuple(Poly._wrap(f, M.var) for f in facs)
     if m == n > 0 and (r := rank_raw(M._r, m, n)) < n:
-        # singular: r ones when a row basis proves it; else the elimination under a guard against runaway growth, else a
-        # square nonsingular matrix with the same invariant factors from kernel bases
+        # singular: r ones when a row basis proves it; else the elimination under a guard
+        # against runaway growth, else a square nonsingular matrix with the same invariant
+        # factors from kernel bases
         if _trivial_by_row_basis(M._r, m, n):
             return (Poly._wrap(bk.ONE, M.var),) * r
         try:
@@ -405,7 +406,7 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
 #: the sum of two others: 12×12 of degree 4, 1.38 / 0.015 s; 16×16 of degree 4, 7.9 /
 #: 0.04 s; rank-deficient 16×16 of bench_ring, 0.26 / 0.03 s) and adds 10–40 % to a short
 #: elimination when the factors are not trivial (δ+1, (δ+1)(δ−2), …: 8×8 of degree 6,
-#: 6.3 / 8.7 ms; 16×16 of degree 8, 3.1 / 3.4–3.7 s).
+#: 6.3 / 8.7 ms; on a 16×16 of degree 8 the failed proof costs 0.1 of 2.5 s).
 ROW_BASIS_MIN_ENTRIES = 40
 
 
