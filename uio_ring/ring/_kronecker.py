@@ -65,9 +65,9 @@ def _value_at_power_of_two(p: flint.fmpz_poly, s: int) -> int:
 #: δ-degree at most this (or by the rule of :func:`_stack_wins`) and coefficients of at
 #: most ``STACK_MAX_BITS`` bits.  The bit bound was 128; on the supports of the products
 #: (see :func:`matmul_kronecker`) the stacked product also won with big coefficients on
-#: both sides: Ō_L⁻¹·Ō of a 32-state
-#: design (32×32×32, degrees 1 and 23, 1579- and 1418-bit) 0.49 s → 0.40 s, C̄Ā^l·Ō_L⁻¹
-#: (9×32×32, degrees 24 and 1) 0.32 s → 0.12 s, so it is now only a safety cap.
+#: both sides: Ō_L⁻¹·Ō of a 32-state design (32×32×32, degrees 1 and 23, 1579- and
+#: 1418-bit) 0.49 s → 0.40 s, C̄Ā^l·Ō_L⁻¹ (9×32×32, degrees 24 and 1) 0.32 s → 0.12 s, so
+#: it is now only a safety cap.
 STACK_MAX_DEGREE = 2
 STACK_MAX_BITS = 1 << 20
 
