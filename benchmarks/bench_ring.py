@@ -40,6 +40,13 @@ Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, 
       smaller on every measure (rankdef 12×12: U 8/401/367k and V 5/358/74k against
       Sage's 100/3390/4152k and 89/3366/6303k).
 
+    * ``K:bits+total`` on the tall family at some sizes: ours is the Popov basis of the
+      left kernel (unique: monic pivots, other entries reduced below them), Sage's
+      ``minimal_kernel_basis()`` an ordered weak Popov basis, unreduced; the same
+      degrees.  Sage's own Popov basis (``normal_form=True``) has exactly our sizes
+      (10×8: 4/28/1.8k against its weak Popov 4/21/1.5k; 14×12: 6/55/6.1k against
+      6/52/6.0k; 18×16: 8/66/10.9k, where the weak Popov one is larger, 8/84/13.4k).
+
     Both libraries' results are verified
     after timing (U·M = H, U·M·V = S with U, V unimodular, K·M = 0 with
     rows − rank rows, L·M = I, X·M = W), and H, S (rows made monic), det, rank
