@@ -315,7 +315,7 @@ def test_high_degree_small_systems_agree_with_the_raw_algorithm():
 
 def test_each_step_leaves_a_progress_note_and_the_end_clears_it(monkeypatch):
     # the CLI's "still working" lines print this note: which step, how large N_k and Δ_k are
-    from uio_ring.analysis import _progress
+    from uio_ring import _progress
 
     notes = []
     monkeypatch.setattr(_progress, "_NOTE", _Recorder(notes))

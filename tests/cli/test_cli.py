@@ -220,7 +220,7 @@ def test_heartbeat_keeps_beating_while_one_call_holds_the_interpreter(capfd, mon
     import time
 
     import uio_ring.cli.heartbeat as hb
-    from uio_ring.analysis import _progress
+    from uio_ring import _progress
 
     monkeypatch.setattr(hb, "HEARTBEAT_SECONDS", 0.05)
     n, held, err = 10**7, 0.0, ""

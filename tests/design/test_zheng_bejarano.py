@@ -325,7 +325,7 @@ def test_observability_index_skips_a_square_obar_whose_det_is_not_constant(monke
     outputs at δ-degree 8: an 8×8 Ō of degree 64, 18 s of solve to learn it); Ō_2 is left
     unimodular."""
     import uio_ring.design.zheng_bejarano as zb
-    from uio_ring.analysis import _progress
+    from uio_ring import _progress
 
     shapes = []
     solve_left, proved = zb.solve_left, zb.left_unimodular_proved
@@ -383,7 +383,7 @@ def test_step_1_names_its_hermite_forms_while_they_run(monkeypatch):
     """The check's heartbeat says what is taking long: during step 1's Hermite forms the
     progress note names the matrix and its size."""
     import uio_ring.design.zheng_bejarano as zb
-    from uio_ring.analysis import _progress
+    from uio_ring import _progress
 
     notes = []
     hermite = zb.hermite

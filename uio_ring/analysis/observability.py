@@ -23,7 +23,7 @@ Known inputs ``u`` play no part: they are measured and can be subtracted.
 
 from __future__ import annotations
 
-from uio_ring.analysis import _progress
+from uio_ring import _progress
 from uio_ring.analysis._module_factors import module_factors_and_kernel
 from uio_ring.analysis._w_step import WStep, eliminate_w
 from uio_ring.analysis.report import ObservabilityReport
@@ -119,7 +119,7 @@ def unknown_input_observability(sys: DelaySystem) -> ObservabilityReport:
 
 
 def _size_note(k: int, basis: PolyMatrix, Delta: PolyMatrix) -> str:
-    """The progress line of step k (:mod:`uio_ring.analysis._progress`)."""
+    """The progress line of step k (:mod:`uio_ring._progress`)."""
     bits = max_bits(Delta._r)
     return (f"algorithm (4)–(5) of Zheng et al. (2015), k = {k}: rank N_{k} = {basis.rows} of "
             f"{basis.cols}, Δ_{k} of δ-degree {Delta.degree()} with {bits}-bit coefficients")

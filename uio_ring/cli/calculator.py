@@ -65,7 +65,7 @@ def _what(form: str, M: Any) -> str:
 
 
 def _run_hermite(args: argparse.Namespace) -> int:
-    from uio_ring.analysis._progress import note
+    from uio_ring._progress import note
     from uio_ring.ring import hermite
 
     M = _matrix(args.matrix, args.var)
@@ -84,7 +84,7 @@ def _run_hermite(args: argparse.Namespace) -> int:
 
 
 def _run_smith(args: argparse.Namespace) -> int:
-    from uio_ring.analysis._progress import note
+    from uio_ring._progress import note
     from uio_ring.ring import smith
 
     M = _matrix(args.matrix, args.var)

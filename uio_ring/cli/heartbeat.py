@@ -4,7 +4,7 @@ Exact algebra on large, high-degree input can take minutes inside the documented
 limits; a tool that is silent then looks hung.  ``with Heartbeat("checking …"):``
 prints ``uio-ring: still checking … (20 s; Ctrl-C stops) — <step>`` every
 :data:`HEARTBEAT_SECONDS`, with the step noted by the work itself
-(:mod:`uio_ring.analysis._progress`).  Used by ``check``, ``design``, ``simulate`` and
+(:mod:`uio_ring._progress`).  Used by ``check``, ``design``, ``simulate`` and
 the ``hermite``/``smith`` calculator.
 """
 
@@ -29,7 +29,7 @@ class Heartbeat:
     """``with Heartbeat("checking …"):`` — a line on stderr every :data:`HEARTBEAT_SECONDS`
     while the block runs, saying what is taking long (exact algebra on large, high-degree
     systems can take minutes; Ctrl-C stops it cleanly) and the analysis' current step
-    (:mod:`uio_ring.analysis._progress`).
+    (:mod:`uio_ring._progress`).
 
     The lines come from a forked child process that the block's notes reach through a
     pipe: one call into FLINT can hold the interpreter for minutes (a Dixon solve of a
@@ -45,7 +45,7 @@ class Heartbeat:
         self._thread: Any = None
 
     def __enter__(self) -> Heartbeat:
-        from uio_ring.analysis import _progress
+        from uio_ring import _progress
 
         if not hasattr(os, "fork"):  # pragma: no cover - Windows
             self._start_thread()
@@ -78,7 +78,7 @@ class Heartbeat:
     def _start_thread(self) -> None:  # pragma: no cover - Windows
         import threading
 
-        from uio_ring.analysis._progress import current
+        from uio_ring._progress import current
 
         stop = threading.Event()
 
@@ -91,7 +91,7 @@ class Heartbeat:
         self._thread[0].start()
 
     def __exit__(self, *exc: object) -> None:
-        from uio_ring.analysis import _progress
+        from uio_ring import _progress
 
         if self._thread is not None:  # pragma: no cover - Windows
             self._thread[1].set()

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from uio_ring.analysis import _progress
+from uio_ring import _progress
 from uio_ring.analysis.assumptions import check_assumptions
 from uio_ring.analysis.rank_condition import matching_matrix
 from uio_ring.analysis.report import AssumptionsReport
