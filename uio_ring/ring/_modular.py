@@ -28,6 +28,7 @@ False
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import flint
 
@@ -35,7 +36,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring._fraction_free import integer_rows
 
-__all__ = ["PRIME", "det_mod_p", "coprime_dets_mod_p", "gcd_degree_mod_p"]
+__all__ = ["PRIME", "ModularGcd", "det_mod_p", "coprime_dets_mod_p", "gcd_mod_p"]
 
 #: A word-size prime (2^61 − 1): far more points than any degree bound in the limits.
 PRIME = (1 << 61) - 1
@@ -84,27 +85,35 @@ def det_mod_p(a: dn.Rows, k: int, p: int = PRIME) -> tuple[flint.nmod_poly, int]
 def coprime_dets_mod_p(a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None, p: int = PRIME) -> bool:
     """True when det a1 and det a2 (k×k and k2×k2, k2 = k by default) are proved coprime in
     Q[δ] by the test of the module docstring; False proves nothing."""
-    return gcd_degree_mod_p(a1, a2, k, k2=k2, p=p) == 0
+    return gcd_mod_p(a1, a2, k, k2=k2, p=p).proves_coprime
 
 
-def gcd_degree_mod_p(
-    a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None, p: int = PRIME, evidence: bool = False
-) -> int | None:
-    """The degree of ``gcd(det a1 mod p, det a2 mod p)`` when ``det a1 mod p`` attains its
-    degree bound (then ``det a1`` keeps its leading coefficient mod p), else None; −1 when
-    ``det a2 mod p`` is 0.  0 proves ``det a1``, ``det a2`` coprime (module docstring); a
-    positive degree is evidence of a common factor over Q — unless p divides their
-    resultant, which is unlikely for a 61-bit p — and proves nothing.  ``evidence``: the
-    degree even when the bound is not attained (then not even 0 proves anything).
+@dataclass(frozen=True)
+class ModularGcd:
+    """``gcd(det a1 mod p, det a2 mod p)``: its ``degree`` (−1 when ``det a2 mod p`` is 0),
+    and whether ``det a1 mod p`` ``attained`` its degree bound (then det a1 keeps its
+    leading coefficient mod p).  Degree 0 with the bound attained proves det a1, det a2
+    coprime (module docstring); a positive degree is evidence of a common factor over Q —
+    unless p divides their resultant, which is unlikely for a 61-bit p — and proves
+    nothing, attained or not."""
+
+    degree: int
+    attained: bool
+
+    @property
+    def proves_coprime(self) -> bool:
+        return self.attained and self.degree == 0
+
+
+def gcd_mod_p(a1: dn.Rows, a2: dn.Rows, k: int, *, k2: int | None = None, p: int = PRIME) -> ModularGcd:
+    """The :class:`ModularGcd` of det a1 (k×k) and det a2 (k2×k2, k2 = k by default).
 
     >>> from uio_ring.ring import _backend as bk
     >>> d = bk.from_coeffs([0, 1])
-    >>> gcd_degree_mod_p([[d * d + 1]], [[d * d * d + d]], 1)  # δ² + 1 divides δ³ + δ
-    2
+    >>> gcd_mod_p([[d * d + 1]], [[d * d * d + d]], 1)  # δ² + 1 divides δ³ + δ
+    ModularGcd(degree=2, attained=True)
     """
     f, bound = det_mod_p(a1, k, p)
-    if (f.degree() != bound or bound < 0) and not evidence:
-        return None
     g, _ = det_mod_p(a2, k if k2 is None else k2, p)
-    return -1 if g.is_zero() else int(f.gcd(g).degree())
+    return ModularGcd(-1 if g.is_zero() else int(f.gcd(g).degree()), f.degree() == bound >= 0)
 

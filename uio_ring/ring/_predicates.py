@@ -34,7 +34,7 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring import _evaluation as ev
 from uio_ring.ring import _fraction_free as ff
 from uio_ring.ring._echelon import max_bits
-from uio_ring.ring._modular import PRIME, det_mod_p, gcd_degree_mod_p
+from uio_ring.ring._modular import PRIME, det_mod_p, gcd_mod_p
 
 __all__ = [
     "rank_raw",
@@ -298,7 +298,7 @@ def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True, ro
     as compressions: there det M decides, exactly (``exact=False``: False).  False says
     nothing.  ``routing``: for a caller that only chooses a path with this answer (every
     path correct): False without the exact minors when the modular test sees a common
-    factor (:func:`~uio_ring.ring._modular.gcd_degree_mod_p` of positive degree, with the
+    factor (:func:`~uio_ring.ring._modular.gcd_mod_p` of positive degree, with the
     first minor at its degree bound or not) — a wrong False then costs time, not
     correctness (a singular 10×10 of degree 8 with a zero column: 5.0 → 1.5 ms; the 16×15
     Hermite rows of a rank-deficient 24×20 with factors δ + 1, …, whose first minor falls
@@ -313,12 +313,10 @@ def coprime_maximal_minors(a: dn.Rows, m: int, n: int, *, exact: bool = True, ro
     for _ in range(2):
         q = [[bk.const(rng.randint(-9, 9)) for _ in range(m)] for _ in range(n)]
         qa.append(dn.matmul(q, a, n, m, n))
-    shared = gcd_degree_mod_p(qa[0], qa[1], n)
-    if shared == 0:  # a proof modulo one prime (see _modular)
+    shared = gcd_mod_p(qa[0], qa[1], n)
+    if shared.proves_coprime:  # a proof modulo one prime (see _modular)
         return True
-    if routing and shared is None:  # the bound is not attained: evidence only
-        shared = gcd_degree_mod_p(qa[0], qa[1], n, evidence=True)
-    if not exact or (routing and shared is not None and shared > 0):
+    if not exact or (routing and shared.degree > 0):  # routing: evidence, bound or not
         return False
     if _coprime_with_the_top_minor(a, qa[0], n):
         return True
