@@ -677,3 +677,60 @@ def test_the_certificate_of_a_singular_hermite_form_needs_no_det_of_u(monkeypatc
     monkeypatch.setattr(pred, "det_raw", lambda a, n: sizes.append(n) or real(a, n))
     assert h.verify(M).ok
     assert sorted(sizes) == [1, 5]
+
+
+@st.composite
+def permuted_echelon_matrices(draw, max_rows: int = 6, max_cols: int = 6):
+    """Row permutations of row echelon forms: nonzero rows starting in distinct columns
+    (a pivot of any degree, anything right of it), zero rows among them."""
+    N = draw(dense_matrices(min_rows=1, max_rows=max_rows, min_cols=1, max_cols=max_cols))
+    m, n = N.shape
+    starts = sorted(draw(st.sets(st.integers(0, n - 1), max_size=min(m, n))))
+    rows = []
+    for k, c in enumerate(starts):
+        row = [0] * c + [N[k, j] for j in range(c, n)]
+        if not row[c]:
+            row[c] = P("d + 1") if k % 2 else 1
+        rows.append(row)
+    rows += [[0] * n for _ in range(m - len(starts))]
+    rows = draw(st.permutations(rows))
+    return PolyMatrix([[str(x) for x in row] for row in rows])
+
+
+@given(permuted_echelon_matrices())
+def test_permuted_echelon_input_is_normalised_without_elimination(M):
+    """A matrix whose rows, permuted, are an echelon form (triangular, and a cascade's
+    block rows) gets the H and U of the elimination — both are unique, the kernel rows
+    the unit rows of its zero rows — from the permutation and the normalisation alone:
+    no echelon pass and no other path runs (spies)."""
+    import importlib
+
+    from uio_ring.ring.hermite import hermite_by_elimination
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    calls = []
+    real = hermite_module.row_echelon
+    hermite_module.row_echelon = lambda *args, **kw: calls.append(1) or real(*args, **kw)
+    try:
+        got = hermite(M)
+    finally:
+        hermite_module.row_echelon = real
+    ref = hermite_by_elimination(M)
+    assert calls == []
+    assert got.H == ref.H and got.U == ref.U and got.pivots == ref.pivots and got.rank == ref.rank
+    check_hermite(M)
+
+
+def test_triangular_pencil_with_dense_upper_part():
+    """δI − A for an upper triangular A with repeated eigenvalues: H keeps the diagonal
+    (monic) with entries above reduced to constants, and U is unique (M nonsingular)."""
+    n = 6
+    rows = [[("d - 1" if i % 2 else "d") if i == j else (f"{(i + 2 * j) % 5 - 2}" if j > i else "0")
+             for j in range(n)] for i in range(n)]
+    M = PolyMatrix(rows)
+    h = check_hermite(M)
+    assert [h.H[i, i] for i in range(n)] == [M[i, i] for i in range(n)]
+    assert all(h.H[i, j].degree() <= 0 for i in range(n) for j in range(i + 1, n))
+    from uio_ring.ring.hermite import hermite_by_elimination
+
+    assert h.U == hermite_by_elimination(M).U

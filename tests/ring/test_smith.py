@@ -435,3 +435,40 @@ def test_unimodularity_from_the_smith_identity_agrees_with_det(data):
     cert = dataclasses.replace(s, U=U, V=V).verify(M)
     assert not cert.ok
     assert [c.ok for c in cert.checks][1:3] == [is_unimodular_raw(U._r, m, m), is_unimodular_raw(V._r, n, n)]
+
+
+@st.composite
+def permuted_triangular_matrices(draw, max_n: int = 6):
+    """Row permutations of upper triangular matrices with a nonzero diagonal, whose
+    diagonal entries share factors (δ, δ + 1, δ², δ(δ + 1), constants)."""
+    n = draw(st.integers(1, max_n))
+    N = draw(dense_matrices(rows=n, cols=n, max_degree=2))
+    diagonal = ["d", "d + 1", "d**2", "d**2 + d", "2", "-1/3"]
+    rows = [["0"] * i + [draw(st.sampled_from(diagonal))] + [str(N[i, j]) for j in range(i + 1, n)]
+            for i in range(n)]
+    return PolyMatrix(draw(st.permutations(rows)))
+
+
+@given(permuted_triangular_matrices())
+def test_permuted_triangular_matrices_go_through_their_hermite_form(M):
+    """A row permutation of a triangular matrix has the Smith form of its Hermite form
+    (U = U_S·U_H): the same invariant factors as the elimination of M itself, the
+    identities exact, and the detour taken (a spy) unless M is its own Hermite form."""
+    from uio_ring.ring.hermite import is_hermite
+
+    seen = []
+    real = smith_module.hermite_of_triangular
+
+    def spy(A):
+        got = real(A)
+        seen.append(got is not None)
+        return got
+
+    smith_module.hermite_of_triangular = spy
+    try:
+        s = check_smith(M)
+        factors = invariant_factors(M)
+    finally:
+        smith_module.hermite_of_triangular = real
+    assert s.invariant_factors == factors == invariant_factors_by_elimination(M)
+    assert seen[0] == (not is_hermite(M))

@@ -120,6 +120,8 @@ def hermite(M: PolyMatrix) -> HermiteResult:
 
     Algorithm
     ---------
+    When M's rows, permuted, are a row echelon form (triangular M, a cascade's block
+    rows), the permutation and the normalisation alone (:func:`_hermite_of_echelon`).
     Square nonsingular matrices of size ≥ ``GENERIC_MIN_SIZE`` whose row degrees add
     up to more than ``deg det`` are first reduced to weak Popov form ``W·M``
     (:mod:`uio_ring.ring._reduce`).  They then try the certified
@@ -177,6 +179,9 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     zero_columns = _zero_columns(M)
     if zero_columns and len(zero_columns) < n:
         return _with_zero_columns(hermite(_without_columns(M, zero_columns)), zero_columns, n)
+    order = _echelon_order(M._r)
+    if order is not None:
+        return _hermite_of_echelon(M, order)
     singular = False
     generic = m == n and generic_first(M._r, n)
     if generic and n >= GENERIC_MIN_SIZE:
@@ -211,6 +216,105 @@ def hermite(M: PolyMatrix) -> HermiteResult:
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
+
+
+def _echelon_order(a: dn.Rows) -> list[int] | None:
+    """The order of the rows of ``a`` that is a row echelon form — the nonzero rows by
+    the column of their first nonzero entry, then the zero rows — or None when two
+    nonzero rows start in the same column.  Triangular matrices and their row
+    permutations have one (a triangular pencil ``δI − A``, a cascade of subsystems).
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> _echelon_order(PolyMatrix([[0, "d", 1], [0, 0, 0], ["d", 1, 0]])._r)
+    [2, 0, 1]
+    >>> _echelon_order(PolyMatrix([["d", 1], [1, 0]])._r) is None
+    True
+    """
+    first: dict[int, int] = {}  # column of the first nonzero entry → row
+    zero = []
+    for i, row in enumerate(a):
+        for j, x in enumerate(row):
+            if x:
+                if j in first:
+                    return None
+                first[j] = i
+                break
+        else:
+            zero.append(i)
+    return [first[j] for j in sorted(first)] + zero
+
+
+def _triangular_order(M: PolyMatrix) -> list[int] | None:
+    """The row order of :func:`_echelon_order` for a square M whose rows, permuted, are
+    upper triangular with a nonzero diagonal (M nonsingular) and which is not its own
+    Hermite form; else None."""
+    n = M.rows
+    if n == 0 or M.cols != n:
+        return None
+    order = _echelon_order(M._r)
+    if order is None or not any(M._r[order[-1]]) or is_hermite_raw(M._r, n):
+        return None
+    return order
+
+
+def hermite_of_triangular(M: PolyMatrix) -> HermiteResult | None:
+    """:func:`hermite` of a square M whose rows, permuted, are upper triangular with a
+    nonzero diagonal, when M is not its own Hermite form; else None.  For the Smith form
+    and the invariant factors, which are those of H: H's entries above the diagonal are
+    reduced below it, where the paths for general M first spend their work (upper
+    triangular 24×24 of degree 2, diagonal δ, δ + 1: invariant factors 10.7 s from M,
+    0.05 s from H).
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> r = hermite_of_triangular(PolyMatrix([[0, "d + 1"], ["2*d", "d**2"]]))
+    >>> r.H
+    PolyMatrix([[d, 1/2], [0, d + 1]])
+    >>> hermite_of_triangular(r.H) is None
+    True
+    """
+    order = _triangular_order(M)
+    return None if order is None else _hermite_of_echelon(M, order)
+
+
+def triangular_hermite_form(M: PolyMatrix) -> PolyMatrix | None:
+    """H of :func:`hermite_of_triangular`, without the transform."""
+    order = _triangular_order(M)
+    if order is None:
+        return None
+    a = [list(M._r[i]) for i in order]
+    normalise(a, None, list(range(M.rows)))
+    return PolyMatrix._new(a, M.rows, M.cols, M.var)
+
+
+def _hermite_of_echelon(M: PolyMatrix, order: list[int]) -> HermiteResult:
+    """Hermite form with U of an M whose rows, in ``order``, are a row echelon form
+    (:func:`_echelon_order`): the permutation, then monic pivots and the entries above
+    them reduced (:func:`~uio_ring.ring._echelon.normalise`, O(r²) row operations).  The
+    nonzero rows are independent (distinct pivot columns), so the left kernel is spanned
+    by the unit rows e_z of the zero rows z: its Popov basis, in that order, and the top
+    rows of U, combinations of the nonzero rows only, are zero in those columns — reduced
+    modulo it.  So H and U are those of every other path.  An upper triangular 16×16 of
+    degree 2 (diagonal δ, δ + 1): 0.4 ms, against 77 ms by evaluation and interpolation
+    (SageMath: 0.9 ms).
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix([[0, "d + 1"], ["2*d", "d**2"]])
+    >>> r = _hermite_of_echelon(M, [1, 0])
+    >>> r.H, r.U @ M == r.H
+    (PolyMatrix([[d, 1/2], [0, d + 1]]), True)
+    """
+    m, n = M.shape
+    a = [list(M._r[i]) for i in order]
+    z, one = bk.ZERO, bk.ONE
+    u = [[one if c == i else z for c in range(m)] for i in order]
+    pivots = [next(j for j, x in enumerate(row) if x) for row in a if any(row)]
+    normalise(a, u, pivots)
+    return HermiteResult(
+        H=PolyMatrix._new(a, m, n, M.var),
+        U=PolyMatrix._new(u, m, m, M.var),
+        rank=len(pivots),
+        pivots=tuple(pivots),
+    )
 
 
 def _hermite_square_generic(M: PolyMatrix) -> tuple[HermiteResult | None, bool]:

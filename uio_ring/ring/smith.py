@@ -42,7 +42,7 @@ from uio_ring.ring._predicates import (
 from uio_ring.ring._reduce import degree_reduced
 from uio_ring.ring._smith_by_hermite import DiagonalForm, diagonal_form_by_hermite
 from uio_ring.ring.certificate import Certificate, Check
-from uio_ring.ring.hermite import elimination_cap
+from uio_ring.ring.hermite import elimination_cap, hermite_of_triangular, triangular_hermite_form
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.poly import Poly
 
@@ -185,6 +185,9 @@ def smith(M: PolyMatrix) -> SmithResult:
 
     Algorithm
     ---------
+    A row permutation of a triangular matrix with a nonzero diagonal that is not in
+    Hermite form is replaced by its Hermite form H = U_H·M (one normalisation,
+    :func:`~uio_ring.ring.hermite.hermite_of_triangular`; then U = U_S·U_H).
     Square nonsingular matrices of size ≥ ``GENERIC_MIN_SIZE`` whose row degrees
     add up to more than ``deg det`` are first reduced to weak Popov form ``W·M``
     (:mod:`uio_ring.ring._reduce`; then U = U_R·W).  They then try the certified
@@ -219,6 +222,10 @@ def smith(M: PolyMatrix) -> SmithResult:
     M = require_matrix(M, "smith")
     m, n = M.shape
     var = M.var
+    triangular = hermite_of_triangular(M)
+    if triangular is not None:  # S(M) = S(H) with H = U_H·M: U = U_S·U_H, V = V_S
+        res = smith(triangular.H)
+        return SmithResult(res.S, res.U @ triangular.U, res.V, res.invariant_factors)
     if m == n and generic_first(M._r, n):
         if n < GENERIC_MIN_SIZE:  # small, of high degree: the elimination while it stays small
             try:
@@ -319,7 +326,9 @@ def _normalised_result(M: PolyMatrix, d: DiagonalForm) -> SmithResult:
 def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     """The invariant factors of M: monic, ``s_1 | s_2 | … | s_r``, r = rank M.
 
-    Computed without transforms.  First, for a matrix of rank n = min(m, n) that is small,
+    Computed without transforms.  A row permutation of a triangular matrix with a
+    nonzero diagonal is first replaced by its Hermite form (same factors,
+    :func:`~uio_ring.ring.hermite.triangular_hermite_form`).  Then, for a matrix of rank n = min(m, n) that is small,
     of high degree or with large coefficients
     (:func:`~uio_ring.ring._fraction_free.prefer_fraction_free`), the determinantal
     divisors over Z[δ]: two compressed (n−1)-minors with gcd 1 prove ``d_{n−1} = 1``,
@@ -347,6 +356,9 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
     """
     M = require_matrix(M, "invariant_factors")
     m, n = M.shape
+    triangular = triangular_hermite_form(M)
+    if triangular is not None:  # the invariant factors of its Hermite form
+        return invariant_factors(triangular)
     if m < n:
         return invariant_factors(M.T)
     if m >= n > 0 and prefer_fraction_free(M._r, n):
