@@ -734,3 +734,32 @@ def test_triangular_pencil_with_dense_upper_part():
     from uio_ring.ring.hermite import hermite_by_elimination
 
     assert h.U == hermite_by_elimination(M).U
+
+
+@pytest.mark.parametrize("n, degree", [(1, 40), (3, 48), (5, 24)])
+def test_two_rows_of_high_degree_take_one_uncapped_extended_gcd(monkeypatch, n, degree):
+    """Two rows: one extended gcd per column (cofactors of the size they have to be), no
+    cap and no other path (a spy sees one elimination, uncapped), and the result is that
+    of the plain elimination."""
+    import importlib
+    import random
+
+    from uio_ring.ring.hermite import hermite_by_elimination
+
+    hermite_module = importlib.import_module("uio_ring.ring.hermite")
+    rng = random.Random(n)
+    M = PolyMatrix([[" + ".join(f"({rng.randint(-3, 3)})*d**{k}" for k in range(degree + 1)) for _ in range(n)]
+                    for _ in range(2)])
+    calls = []
+    real = hermite_module._hermite_by_small_elimination
+
+    def spy(A, **kw):
+        got = real(A, **kw)
+        calls.append((kw.get("capped"), got is not None))
+        return got
+
+    monkeypatch.setattr(hermite_module, "_hermite_by_small_elimination", spy)
+    got = check_hermite(M)
+    assert calls == [(False, True)]
+    ref = hermite_by_elimination(M)
+    assert got.H == ref.H and got.U == ref.U
