@@ -35,7 +35,7 @@ Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, 
       and V differently (ours, square nonsingular: U = the Hermite transform, V small;
       Sage: the reverse), so one of ours may exceed Sage's (``U:bits`` by a few bits, or
       ``U:deg``) while the pair is smaller (random 8×8: U + V 226 kbit against Sage's
-      539 kbit; smith 12×12: 198 against 10 412 kbit).  Rectangular and singular
+      539 kbit; smith 12×12, ``--max-n 16``: 132 against 11 525 kbit).  Rectangular and singular
       matrices go through Hermite forms and their unit pivots; there both of ours are
       smaller on every measure (rankdef 12×12: U 8/401/367k and V 5/358/74k against
       Sage's 100/3390/4152k and 89/3366/6303k).
@@ -95,6 +95,11 @@ Cases (seeded, identical for every library)
                "n" column is k): small and square, where Euclidean elimination swells
     sparse     n×n, each entry nonzero with probability 0.3 (degree 8, coefficients in
                [−3, 3]), one row zero (n = 8, 10, 12): rank-deficient and sparse
+    triangular the rows of an upper triangular n×n in random order: diagonal δ, δ + 1, δ, …,
+               entries above of degree 2 (coefficients in [−3, 3]); n = 8, 16, 24 — a
+               cascade of subsystems, δI − A for a triangular A
+    narrow     4×2 and 2×4, entries of degree k (k = 16, 32; the "n" column is k): few
+               rows or columns of high degree
     paper001   M = [[C B, D], [D, 0]] of Zheng et al. §5 (6×4)
 
 After the table: the fitted growth exponents of left_kernel, left_inverse, hermite and
@@ -140,7 +145,10 @@ HIGHDEG_KS = [16, 32, 64, 128, 256]
 HIGHDEG4_KS = [8, 16, 32, 64]
 QUICK_KS = [4, 8]
 SPARSE_SIZES = [8, 10, 12]
-FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "highdeg4", "sparse", "paper001"]
+TRIANGULAR_SIZES = [8, 16, 24]
+NARROW_KS = [16, 32]
+FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "highdeg4", "sparse", "triangular",
+            "narrow", "paper001"]
 
 Coeffs = list[int]  # low to high
 Data = list[list[Coeffs]]  # matrix of coefficient lists
@@ -282,6 +290,20 @@ def _build_all(sizes: list[int], seed: int, *, quick: bool, max_n: int) -> list[
         M[rng7.randrange(n)] = [[] for _ in range(n)]
         cases.append(dict(family="sparse", n=n, shape=(n, n), M=M, W=None,
                           ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel"]))
+    rng8 = random.Random(seed + 8)
+    for n in (QUICK_SIZES[-1:] if quick else [n for n in TRIANGULAR_SIZES if n <= max_n]):
+        T = _random_matrix(rng8, n, n, 2)
+        for i in range(n):
+            T[i][:i] = [[] for _ in range(i)]
+            T[i][i] = [1, 1] if i % 2 else [0, 1]
+        rng8.shuffle(T)
+        cases.append(dict(family="triangular", n=n, shape=(n, n), M=T, W=None,
+                          ops=["hermite", "smith", "invariant_factors", "rank", "det"]))
+    rng9 = random.Random(seed + 9)
+    for k in (QUICK_KS[:1] if quick else NARROW_KS):
+        for shape in ((4, 2), (2, 4)):
+            cases.append(dict(family="narrow", n=k, shape=shape, M=_random_matrix(rng9, *shape, k), W=None,
+                              ops=["hermite", "smith", "invariant_factors", "left_kernel"]))
     M = paper_001_matrix()
     cases.append(dict(family="paper001", n=6, shape=(6, 4), M=M, W=[M[0], M[2]],
                       ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel", "solve_left"]))
