@@ -339,8 +339,8 @@ def invariant_factors(M: PolyMatrix) -> tuple[Poly, ...]:
 
     Computed without transforms.  A row permutation of a triangular matrix with a
     nonzero diagonal is first replaced by its Hermite form (same factors,
-    :func:`~uio_ring.ring.hermite.triangular_hermite_form`).  Then, for a matrix of rank n = min(m, n) that is small,
-    of high degree or with large coefficients
+    :func:`~uio_ring.ring.hermite.triangular_hermite_form`).  Then, for a matrix of rank
+    n = min(m, n) that is small, of high degree or with large coefficients
     (:func:`~uio_ring.ring._fraction_free.prefer_fraction_free`), the determinantal
     divisors over Z[δ]: two compressed (n−1)-minors with gcd 1 prove ``d_{n−1} = 1``,
     and the gcd of the maximal minors (Bareiss, when there are at most
