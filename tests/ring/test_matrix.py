@@ -406,3 +406,21 @@ def test_indices_from_numpy_and_sympy():
 
     M = PolyMatrix("[[1, d], [d**2, 0]]")
     assert M[np.int64(1), np.int64(0)] == M[1, 0] == M[sympy.Integer(1), sympy.Integer(0)]
+
+
+@given(st.integers(3, 4).flatmap(lambda n: dense_matrices(rows=n, cols=n, max_degree=4)))
+def test_small_determinant_formulas_match_sympy_and_the_general_paths(M):
+    """3×3 by cofactors and 4×4 by Laplace expansion along two rows (det_raw's formulas)
+    against sympy and against the two general paths (Bareiss over Z[δ] and evaluation
+    with interpolation), with rational coefficients and zero entries."""
+    from uio_ring.ring import _evaluation as ev
+    from uio_ring.ring import _fraction_free as ff
+    from uio_ring.ring._predicates import det_raw
+
+    n = M.rows
+    d = det_raw(M._r, n)
+    assert same_poly(M.det(), reference_det(M))
+    assert d == ff.det_fraction_free(M._r, n)
+    xs = ev.first_points(ev.minor_degree_bound(M._r, n, n, n) + 1)
+    coeffs = ev.coefficient_mats(M._r, n, n)
+    assert d == ev.interpolate(xs, [ev.det_at(coeffs, x) for x in xs])
