@@ -18,8 +18,7 @@ from __future__ import annotations
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import popov_left_kernel
-from uio_ring.ring._predicates import rank_raw
-from uio_ring.ring.hermite import _few_rows_of_high_degree, hermite
+from uio_ring.ring.hermite import _few_rows_of_high_degree, kernel_of_few_rows
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 
 __all__ = ["left_kernel", "right_kernel"]
@@ -47,11 +46,8 @@ def left_kernel(M: PolyMatrix) -> PolyMatrix:
     fast = popov_left_kernel(M._r, m, n)
     if fast is not None:
         return PolyMatrix._new(fast, len(fast), m, M.var)
-    if _few_rows_of_high_degree(M):
-        if rank_raw(M._r, m, n) == m:  # no kernel: no Hermite form (4×4 of degree 32: 0.8 s)
-            return PolyMatrix._new([], 0, m, M.var)
-        h = hermite(M)  # its kernel rows are the Popov basis
-        return h.U[h.rank :, :]
+    if _few_rows_of_high_degree(M):  # (no kernel, no Hermite form: 4×4 of degree 32, 0.8 s)
+        return kernel_of_few_rows(M)
     return left_kernel_by_elimination(M)
 
 
