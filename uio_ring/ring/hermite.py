@@ -220,15 +220,22 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     return hermite_by_elimination(M)
 
 
-def _echelon_order(a: dn.Rows) -> list[int] | None:
-    """The order of the rows of ``a`` that is a row echelon form — the nonzero rows by
-    the column of their first nonzero entry, then the zero rows — or None when two
+@dataclass(frozen=True)
+class EchelonOrder:
+    """A row order that puts M in row echelon form (:func:`_echelon_order`)."""
+
+    rows: list[int]  #: the nonzero rows by the column of their first nonzero entry, then the zero rows
+    pivots: list[int]  #: that column, for each nonzero row in that order
+
+
+def _echelon_order(a: dn.Rows) -> EchelonOrder | None:
+    """The order of the rows of ``a`` that is a row echelon form, or None when two
     nonzero rows start in the same column.  Triangular matrices and their row
     permutations have one (a triangular pencil ``δI − A``, a cascade of subsystems).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> _echelon_order(PolyMatrix([[0, "d", 1], [0, 0, 0], ["d", 1, 0]])._r)
-    [2, 0, 1]
+    EchelonOrder(rows=[2, 0, 1], pivots=[0, 1])
     >>> _echelon_order(PolyMatrix([["d", 1], [1, 0]])._r) is None
     True
     """
@@ -243,18 +250,19 @@ def _echelon_order(a: dn.Rows) -> list[int] | None:
                 break
         else:
             zero.append(i)
-    return [first[j] for j in sorted(first)] + zero
+    pivots = sorted(first)
+    return EchelonOrder([first[j] for j in pivots] + zero, pivots)
 
 
-def _triangular_order(M: PolyMatrix) -> list[int] | None:
-    """The row order of :func:`_echelon_order` for a square M whose rows, permuted, are
-    upper triangular with a nonzero diagonal (M nonsingular) and which is not its own
-    Hermite form; else None."""
+def _triangular_order(M: PolyMatrix) -> EchelonOrder | None:
+    """The :func:`_echelon_order` of a square M whose rows, permuted, are upper
+    triangular with a nonzero diagonal (M nonsingular) and which is not its own Hermite
+    form; else None."""
     n = M.rows
     if n == 0 or M.cols != n:
         return None
     order = _echelon_order(M._r)
-    if order is None or not any(M._r[order[-1]]) or is_hermite_raw(M._r, n):
+    if order is None or len(order.pivots) < n or is_hermite_raw(M._r, n):
         return None
     return order
 
@@ -281,41 +289,42 @@ def hermite_of_triangular(M: PolyMatrix) -> HermiteResult | None:
 def triangular_hermite_form(M: PolyMatrix) -> PolyMatrix | None:
     """H of :func:`hermite_of_triangular`, without the transform."""
     order = _triangular_order(M)
-    if order is None:
-        return None
-    a = [list(M._r[i]) for i in order]
-    normalise(a, None, list(range(M.rows)))
-    return PolyMatrix._new(a, M.rows, M.cols, M.var)
+    return None if order is None else PolyMatrix._new(_normalised(M, order, None), M.rows, M.cols, M.var)
 
 
-def _hermite_of_echelon(M: PolyMatrix, order: list[int]) -> HermiteResult:
+def _normalised(M: PolyMatrix, order: EchelonOrder, u: dn.Rows | None) -> dn.Rows:
+    """The rows of M in ``order``, normalised (monic pivots, entries above them reduced;
+    :func:`~uio_ring.ring._echelon.normalise`, O(r²) row operations, mirrored on ``u``)."""
+    a = [list(M._r[i]) for i in order.rows]
+    normalise(a, u, order.pivots)
+    return a
+
+
+def _hermite_of_echelon(M: PolyMatrix, order: EchelonOrder) -> HermiteResult:
     """Hermite form with U of an M whose rows, in ``order``, are a row echelon form
-    (:func:`_echelon_order`): the permutation, then monic pivots and the entries above
-    them reduced (:func:`~uio_ring.ring._echelon.normalise`, O(r²) row operations).  The
-    nonzero rows are independent (distinct pivot columns), so the left kernel is spanned
-    by the unit rows e_z of the zero rows z: its Popov basis, in that order, and the top
-    rows of U, combinations of the nonzero rows only, are zero in those columns — reduced
-    modulo it.  So H and U are those of every other path.  An upper triangular 16×16 of
-    degree 2 (diagonal δ, δ + 1): 0.4 ms, against 77 ms by evaluation and interpolation
-    (SageMath: 0.9 ms).
+    (:func:`_echelon_order`): the permutation, then the normalisation.  The nonzero rows
+    are independent (distinct pivot columns), so the left kernel is spanned by the unit
+    rows e_z of the zero rows z: its Popov basis, in that order, and the top rows of U,
+    combinations of the nonzero rows only, are zero in those columns — reduced modulo it.
+    So H and U are those of every other path.  An upper triangular 16×16 of degree 2
+    (diagonal δ, δ + 1): 0.4 ms, against 77 ms by evaluation and interpolation (SageMath:
+    0.9 ms).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([[0, "d + 1"], ["2*d", "d**2"]])
-    >>> r = _hermite_of_echelon(M, [1, 0])
+    >>> r = _hermite_of_echelon(M, _echelon_order(M._r))
     >>> r.H, r.U @ M == r.H
     (PolyMatrix([[d, 1/2], [0, d + 1]]), True)
     """
     m, n = M.shape
-    a = [list(M._r[i]) for i in order]
     z, one = bk.ZERO, bk.ONE
-    u = [[one if c == i else z for c in range(m)] for i in order]
-    pivots = [next(j for j, x in enumerate(row) if x) for row in a if any(row)]
-    normalise(a, u, pivots)
+    u = [[one if c == i else z for c in range(m)] for i in order.rows]
+    H = _normalised(M, order, u)
     return HermiteResult(
-        H=PolyMatrix._new(a, m, n, M.var),
+        H=PolyMatrix._new(H, m, n, M.var),
         U=PolyMatrix._new(u, m, m, M.var),
-        rank=len(pivots),
-        pivots=tuple(pivots),
+        rank=len(order.pivots),
+        pivots=tuple(order.pivots),
     )
 
 
