@@ -266,6 +266,22 @@ def test_modular_coprimality_is_sound(A, B):
     assert bound >= _det_by_evaluation(A).degree() >= f.degree()
 
 
+@given(square_matrices(min_n=1, max_n=4))
+def test_det_mod_p_is_the_scaled_determinant_mod_p(A):
+    """1×1 and 2×2 by products in GF(p)[δ], larger by evaluation: both are det Z mod p
+    for the rows Z scaled to Z[δ] (det Z = c·det A)."""
+    import flint
+
+    from uio_ring.ring._fraction_free import integer_rows
+    from uio_ring.ring._modular import PRIME, det_mod_p
+
+    _, c = integer_rows(A._r)
+    exact = _det_by_evaluation(A) * c
+    assert all(x.q == 1 for x in exact.coeffs())
+    f, _ = det_mod_p(A._r, A.rows)
+    assert f == flint.nmod_poly([int(x.p) % PRIME for x in exact.coeffs()], PRIME)
+
+
 def test_modular_coprimality_refuses_an_unattained_bound_and_a_common_factor():
     from uio_ring.ring._modular import PRIME, coprime_dets_mod_p
 

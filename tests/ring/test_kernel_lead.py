@@ -121,10 +121,13 @@ def _krylov(C: PolyMatrix, A: PolyMatrix, blocks: int) -> PolyMatrix:
     return PolyMatrix.vstack(*rows)
 
 
-def test_probe_finds_a_constant_kernel_below_the_start_degree():
+@pytest.mark.parametrize("probe_min", [0, 10**6])
+def test_probe_finds_a_constant_kernel_below_the_start_degree(monkeypatch, probe_min):
     """M = [N; R·N] with R constant has the constant Popov kernel [−R, I] (as the
     observability matrix of a 32-state design has): the probe looks at D' = 0 although
-    the minor bound starts at D ≥ 1, and the basis equals the elimination one."""
+    the minor bound starts at D ≥ 1, and the basis equals the elimination one — with the
+    small probes, and with the profile of T_D alone (``PROBE_MIN_UNKNOWNS``)."""
+    monkeypatch.setattr(_kernel_basis, "PROBE_MIN_UNKNOWNS", probe_min)
     N = PolyMatrix("[[d**2, 1, 0], [0, d + 1, d**2], [1, 0, 2*d**2 - 1]]")
     R = PolyMatrix("[[1, 2, 0], [0, -1, 3], [5, 0, 1]]")
     M = PolyMatrix.vstack(N, R @ N)
@@ -157,13 +160,37 @@ def test_probe_kernel_of_krylov_matrices_equals_elimination(r, n, seed):
     assert PolyMatrix._new(K, len(K), M.rows, M.var) == left_kernel_by_elimination(M)
 
 
+@settings(max_examples=30)
+@given(st.integers(1, 3), st.integers(2, 4), st.integers(0, 10**6))
+def test_probes_and_the_whole_profile_agree(r, n, seed):
+    """The generator degree D' and the pivots are the same whether the small probes run
+    or only ``T_D``'s profile is computed (each probe's profile is a part of it)."""
+    import random
+
+    rng = random.Random(seed)
+    A = PolyMatrix([[f"{rng.randint(-3, 3)}*d + {rng.randint(-3, 3)}" for _ in range(n)] for _ in range(n)])
+    C = PolyMatrix([[str(rng.randint(-2, 2)) for _ in range(n)] for _ in range(r)])
+    M = _krylov(C, A, n + 2)
+    m, rank = M.rows, M.rank()
+    if rank in (0, m):
+        return
+    coeffs = ToeplitzCoefficients.of(M._r, m, n)
+    D = -(-minor_degree_bound(M._r, m, n, rank) // (m - rank))
+    got = []
+    for probe_min in (0, 10**6):
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(_kernel_basis, "PROBE_MIN_UNKNOWNS", probe_min)
+            got.append(_generator_degree_mod_p(coeffs.residues, m, n, coeffs.dm, D, m - rank))
+    assert got[0] == got[1]
+
+
 def test_probe_falls_back_when_the_lead_solve_gives_up(monkeypatch):
     """An unlucky prime at D' (simulated: the lead solve returns None) falls back to the
     fraction-free nullspace at the start degree: same basis."""
     N = PolyMatrix("[[d**2, 1, 0], [0, d + 1, d**2], [1, 0, 2*d**2 - 1]]")
     M = PolyMatrix.vstack(N, PolyMatrix("[[1, 2, 0], [0, -1, 3], [5, 0, 1]]") @ N)
     want = popov_left_kernel(M._r, *M.shape, min_rows=0)
-    monkeypatch.setattr(_kernel_basis, "generators_by_lead_solve", lambda *a, **k: None)
+    monkeypatch.setattr(_kernel_basis, "lead_solve", lambda *a, **k: None)
     assert popov_left_kernel(M._r, *M.shape, min_rows=0) == want
 
 

@@ -41,8 +41,9 @@ from .strategies import (
 smith_module = importlib.import_module("uio_ring.ring.smith")
 
 
-def check_smith(M: PolyMatrix):
-    s = smith(M)
+def check_smith(M: PolyMatrix, s=None):
+    """smith(M), or the given result of another path, checked."""
+    s = smith(M) if s is None else s
     assert s.S.shape == M.shape
     assert s.U.shape == (M.rows, M.rows) and s.V.shape == (M.cols, M.cols)
     assert s.U @ M @ s.V == s.S
@@ -359,7 +360,9 @@ def test_smith_through_hermite_forms_is_the_smith_form(data):
     calls: list = []
     with pytest.MonkeyPatch.context() as mp:
         s = _through_hermite(mp, M, calls)
-    assert calls == [(m, n)]
+    assert calls in ([], [(m, n)])
+    if not calls:  # an elimination that never grew (a column [δ²; δ³]) met no cap: the path itself
+        s = check_smith(M, smith_module._smith_by_hermite(M))
     ref = smith_module.smith_by_elimination(M)
     assert s.S == ref.S
     r = s.rank

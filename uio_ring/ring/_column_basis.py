@@ -26,7 +26,7 @@ tries the elimination first, under a guard against runaway growth.
 from __future__ import annotations
 
 from uio_ring.ring import _dense as dn
-from uio_ring.ring._kernel_basis import popov_left_kernel, solve_reduced
+from uio_ring.ring._kernel_basis import kernel_and_solution, popov_left_kernel
 
 __all__ = ["full_rank_core"]
 
@@ -37,10 +37,10 @@ def _left_kernel(a: dn.Rows, m: int, n: int) -> dn.Rows | None:
 
 def _left_inverse(a: dn.Rows, m: int, n: int) -> dn.Rows | None:
     """n×m rows L with ``L·a = I`` for a left-prime m×n ``a`` (m ≥ n), or None."""
-    K = _left_kernel(a, m, n)
-    if K is None:
-        return None
-    return solve_reduced(a, m, n, K, dn.identity(n))
+    if not m:
+        return []
+    got = kernel_and_solution(a, m, n, dn.identity(n), min_rows=0)
+    return None if got is None else got.solution
 
 
 def full_rank_core(a: dn.Rows, m: int, n: int, r: int) -> dn.Rows | None:

@@ -55,6 +55,7 @@ sides: 20 primes at about 1.4 ms each, against 0.35 s for the exact 360×360 sol
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import flint
@@ -66,7 +67,7 @@ from uio_ring.ring._kernel_lead import (
     PRIME,
     column_profile,
     generators_by_crt,
-    generators_by_lead_solve,
+    lead_solve,
     pivot_columns_mod_p,
     solve_square,
 )
@@ -74,7 +75,10 @@ from uio_ring.ring._kronecker import scaled_numerator
 from uio_ring.ring._predicates import rank_raw
 from uio_ring.ring._reduced_crt import solve_reduced_crt, worthwhile
 
-__all__ = ["popov_left_kernel", "solve_reduced", "ToeplitzCoefficients", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS"]
+__all__ = [
+    "KernelSolution", "kernel_and_solution", "popov_left_kernel", "solve_reduced", "ToeplitzCoefficients",
+    "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS",
+]
 
 #: Largest Toeplitz system (number of unknowns m·(D + 1)) tried; beyond it the
 #: elimination path is used.
@@ -82,6 +86,12 @@ MAX_UNKNOWNS = 1000
 #: Fewer rows than this: elimination (a handful of rows of high degree — the matrices
 #: of the observability algorithm, 3×2 of degree 127: elimination 1 ms, Toeplitz 4.7 s).
 TOEPLITZ_MIN_ROWS = 6
+
+#: At most this many unknowns m·(D + 1): the rank profile of ``T_D`` alone, without the
+#: smaller probes of :func:`_generator_degree_mod_p` (4×2 of degree 16, 68 columns:
+#: 0.63 → 0.33 ms, a 20×16 of degree 2, 180 columns: 4.0 → 2.5 ms; on matrices whose
+#: generators have the degree of the bound the probes are built in vain).
+PROBE_MIN_UNKNOWNS = 256
 
 IntCoeffs = list[list[list[Any]]]  # [row j][column l] -> integer coefficients (int or fmpz), low to high
 
@@ -109,6 +119,11 @@ class ToeplitzCoefficients:
         scale = _column_scale(a, m, n)
         mi = [[scaled_numerator(a[j][col], scale[col]).coeffs() for col in range(n)] for j in range(m)]
         return cls(mi, scale, max(dn.mat_degree(a), 0))
+
+    @cached_property
+    def bits(self) -> int:
+        """The greatest bit length of the integer coefficients (those of every ``T_D``)."""
+        return max((abs(c).bit_length() for row in self.mi for cs in row for c in cs), default=1)
 
     @property
     def residues(self) -> IntCoeffs:
@@ -213,11 +228,15 @@ def _generator_degree_mod_p(
     fails that certificate), so the basis does not depend on it.  (The 216×32
     observability matrix of degree 23 of a 32-state design has a constant kernel basis:
     D' = 0 and 32 unknowns instead of D = 3 and 128.)  Cost: rank profiles modulo p,
-    O((m·(D + 1))³) word operations in all (the bounds at most double).
+    O((m·(D + 1))³) word operations in all (the bounds at most double).  When ``T_D`` has
+    at most :data:`PROBE_MIN_UNKNOWNS` columns only its profile is computed (the same
+    D' and pivots: each probe's profile is a part of it).
     """
     probes = [0]
     while 2 * probes[-1] + 1 < D:
         probes.append(2 * probes[-1] + 1)
+    if m * (D + 1) <= PROBE_MIN_UNKNOWNS:
+        probes = []  # T_D's own profile costs less than building the smaller ones
     for d in [x for x in probes if 2 * (x + 1) <= D + 1] + [D]:
         cols = m * (d + 1)
         pivots = column_profile(_toeplitz_mod_p(residues, m, n, dm, d))
@@ -231,6 +250,17 @@ def _generator_degree_mod_p(
     return D, pivots
 
 
+@dataclass(frozen=True)
+class KernelSolution:
+    """The Popov basis of M's left kernel and the solution of ``X·M = W`` reduced modulo
+    it (:func:`kernel_and_solution`)."""
+
+    #: Rows of the Popov basis (sorted by pivot degree, then pivot position).
+    kernel: dn.Rows
+    #: Rows of X, or None when none of degree within the bounds tried was found.
+    solution: dn.Rows | None
+
+
 def popov_left_kernel(
     a: dn.Rows, m: int, n: int, *, min_rows: int = TOEPLITZ_MIN_ROWS, coeffs: ToeplitzCoefficients | None = None
 ) -> dn.Rows | None:
@@ -239,14 +269,55 @@ def popov_left_kernel(
     Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.
     Precondition: shape m×n; ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)``
     (not checked)."""
+    got = _popov_left_kernel(a, m, n, min_rows, coeffs, None)
+    return None if got is None else got[0]
+
+
+def kernel_and_solution(
+    a: dn.Rows, m: int, n: int, rhs: dn.Rows, *, min_rows: int = TOEPLITZ_MIN_ROWS,
+    coeffs: ToeplitzCoefficients | None = None, tries: int | None = None,
+) -> KernelSolution | None:
+    """The Popov basis K of the left kernel of the m×n rows ``a`` and the solution X of
+    ``X·M = rhs`` reduced modulo K (:func:`popov_left_kernel` and :func:`solve_reduced`),
+    or None when K is (m < ``min_rows``, or its Toeplitz system too large).
+
+    Both are solutions on the same unknowns — the non-leading monomials, the pivot
+    columns of ``T_D`` — so when X has degree ≤ D, the degree bound of K's generators,
+    they come from one square solve (:func:`~uio_ring.ring._kernel_lead.lead_solve`;
+    Hermite's U = [X; K] of a 4×2 of degree 16: 8.8 → 4 ms).  Otherwise X is sought at
+    the next bounds as :func:`solve_reduced` does (``tries`` of them when given).  X is
+    checked exactly either way; ``solution`` is None when it was not found.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix("[[1], [d], [d**2]]")
+    >>> got = kernel_and_solution(M._r, 3, 1, dn.identity(1), min_rows=0)
+    >>> PolyMatrix._new(got.kernel, 2, 3, "d"), PolyMatrix._new(got.solution, 1, 3, "d")
+    (PolyMatrix([[d, -1, 0], [0, d, -1]]), PolyMatrix([[1, 0, 0]]))
+    """
+    coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
+    got = _popov_left_kernel(a, m, n, min_rows, coeffs, rhs)
+    if got is None:
+        return None
+    K, X, refuted = got
+    if X is None and rhs:
+        X = solve_reduced(a, m, n, K, rhs, tries=tries, coeffs=coeffs, refuted=refuted)
+    return KernelSolution(K, X if rhs else [])
+
+
+def _popov_left_kernel(
+    a: dn.Rows, m: int, n: int, min_rows: int, coeffs: ToeplitzCoefficients | None, rhs: dn.Rows | None
+) -> tuple[dn.Rows, dn.Rows | None, int] | None:
+    """``(K, X, refuted)``: :func:`popov_left_kernel`, and when ``rhs`` is given the reduced
+    solution X of degree ≤ D from the same square solve (D: the degree bound of K's
+    generators), or None with ``refuted`` = D when there is none (−1: not tried)."""
     if m < min_rows:
         return None
     r = rank_raw(a, m, n)
     k = m - r
     if k == 0:
-        return []
+        return [], None, -1
     if r == 0:
-        return dn.identity(m)
+        return dn.identity(m), None, -1
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
     mi, dm = coeffs.mi, coeffs.dm
     d_cap = MAX_UNKNOWNS // m - 1
@@ -254,6 +325,8 @@ def popov_left_kernel(
     # basis of M, divided by their gcd), so max d_i ≤ b_r and the mean is ≤ b_r / k.
     bound = ev.minor_degree_bound(a, m, n, r)
     D = min(-(-bound // k), d_cap)
+    X: dn.Rows | None = None
+    refuted = -1
     while True:
         # Invariant: every d_i ≤ D has its generator in `gens`; the others exceed D.
         # The modular rank profile and one certified square solve, whatever the nullity:
@@ -263,21 +336,34 @@ def popov_left_kernel(
         # nullity (a 216×32 observability matrix: 184 rows); it stays the fallback
         # for an unlucky prime
         D_use, pivots = _generator_degree_mod_p(coeffs.residues, m, n, dm, D, k)
+        lead: list[tuple[int, list[flint.fmpq]]] | None
         if 2 * k < m and r == n and worthwhile(n, dm):
             # rank n: the solve as a Schur complement modulo primes (_reduced_crt)
             lead = generators_by_crt(mi, dm, m, n, D_use, pivots)
         else:
-            lead = generators_by_lead_solve(_toeplitz_entries(mi, m, n, dm, D_use, None),
-                                            n * (D_use + dm + 1), m * (D_use + 1), m, pivots=pivots)
+            extra = None
+            if rhs is not None and rhs and dn.mat_degree(rhs) <= D_use + dm:
+                extra, bden = _toeplitz_rhs(coeffs, n, D_use, rhs)
+            got = lead_solve(_toeplitz_entries(mi, m, n, dm, D_use, None), n * (D_use + dm + 1), m * (D_use + 1),
+                             m, pivots=pivots, extra=extra, bits=coeffs.bits)
+            lead = None if got is None else got.generators
+            if got is not None and extra is not None:
+                refuted = D_use
+                if got.solution is not None:
+                    ynum, yden = got.solution
+                    X = _solution_rows(ynum, bden * yden, pivots, m, D_use, extra.ncols())
         if lead is not None and D_use < D:
             if len(lead) == k:
                 # certified at D' < D: lead_Q = lead_p there, and lead_p has all k generators
                 D, gens = D_use, lead
                 break
             lead = None  # pragma: no cover - as just said
+        if lead is None:
+            X, refuted = None, -1  # X's unknowns were the pivot columns of an uncertified profile
         gens = _exact_generators(mi, m, n, dm, D) if lead is None else lead
         if len(gens) == k:
             break
+        X, refuted = None, -1  # the pivot columns were not yet the non-leading monomials
         found = sum(i // m for i, _ in gens)
         nxt = min(2 * D + 1, bound - found, d_cap)
         if nxt <= D:
@@ -285,13 +371,41 @@ def popov_left_kernel(
         D = nxt
     rows = [[flint.fmpq_poly([g[e * m + j] for e in range(D + 1)]) for j in range(m)] for _, g in gens]
     rows.sort(key=dn.leading_position)
-    return rows
+    return rows, X, refuted
 
+
+def _toeplitz_rhs(coeffs: ToeplitzCoefficients, n: int, D: int, rhs: dn.Rows) -> tuple[flint.fmpz_mat, flint.fmpz]:
+    """``(B, den)``: the right-hand sides of ``X·M = rhs`` as columns of ``T_D``'s rows,
+    over one denominator — coefficient t of ``rhs[v][l]·c_l`` at row (t, l), column v
+    (c_l: the column scale of M).  Precondition: ``deg rhs ≤ D + dm`` (not checked)."""
+    rows = n * (D + coeffs.dm + 1)
+    k = len(rhs)
+    scaled = [[(rhs[v][col] * coeffs.scale[col]).coeffs() for col in range(n)] for v in range(k)]
+    b = flint.fmpq_mat(rows, k, [
+        scaled[v][col][t] if t < len(scaled[v][col]) else 0
+        for t in range(D + coeffs.dm + 1) for col in range(n) for v in range(k)
+    ])
+    return b.numer_denom()
+
+
+def _solution_rows(num: flint.fmpz_mat, den: flint.fmpz, unknowns: list[int], m: int, D: int, k: int) -> dn.Rows:
+    """The k rows of m polynomials of degree ≤ D whose coefficient e in column j is
+    ``num[i, v] / den`` for ``unknowns[i] = e·m + j`` (zero at the other monomials)."""
+    qden = flint.fmpq(den)
+    pos = {c: i for i, c in enumerate(unknowns)}
+    out: dn.Rows = []
+    for v in range(k):
+        row = []
+        for j in range(m):
+            cs = [num[pos[e * m + j], v] if (e * m + j) in pos else 0 for e in range(D + 1)]
+            row.append(flint.fmpq_poly(cs) / qden if any(cs) else bk.ZERO)
+        out.append(row)
+    return out
 
 
 def solve_reduced(
     a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows, *, tries: int | None = None,
-    coeffs: ToeplitzCoefficients | None = None, multimodular: bool = True,
+    coeffs: ToeplitzCoefficients | None = None, multimodular: bool = True, refuted: int = -1,
 ) -> dn.Rows | None:
     """The X with ``X·M = rhs`` reduced modulo the Popov kernel basis ``kernel`` (entries
     in a pivot column of lower degree than that pivot), from one square block-Toeplitz
@@ -316,7 +430,9 @@ def solve_reduced(
     modulo word primes (:func:`~uio_ring.ring._reduced_crt.solve_reduced_crt`: a
     Σ d_i-unknown Schur complement instead of the whole system, Chinese remaindering with
     early termination, the result checked exactly); ``multimodular=False`` skips that
-    (for testing the two against each other: the solution is unique).
+    (for testing the two against each other: the solution is unique).  ``refuted``: a
+    degree bound at which the caller found no solution (:func:`kernel_and_solution`);
+    the bounds start above it, and it counts as one of the ``tries``.
     """
     if not rhs:
         return []
@@ -326,6 +442,12 @@ def solve_reduced(
     hdeg = max(dn.mat_degree(rhs), 0)
     D = max([hdeg - dm, *lead.values(), 0])
     d_cap = MAX_UNKNOWNS // m - 1
+    if refuted >= D:
+        if tries is not None:
+            tries -= 1
+        if refuted >= d_cap or tries == 0:
+            return None
+        D = min(refuted + max(refuted // 2, 1), d_cap)
     while D <= d_cap:
         got = _solve_reduced_at(coeffs, m, n, D, lead, rhs, multimodular)
         if got is not None:
@@ -379,18 +501,12 @@ def _solve_reduced_at(
     multimodular: bool = True,
 ) -> dn.Rows | None:
     """:func:`solve_reduced` at the degree bound D; None when the check fails."""
-    mi, scale, dm = coeffs.mi, coeffs.scale, coeffs.dm
+    mi, dm = coeffs.mi, coeffs.dm
     rows = n * (D + dm + 1)
     if dn.mat_degree(rhs) > D + dm:
         return None
-    # right-hand sides: coefficient t of rhs[l]·c_l at row (t, l), over one denominator
     k = len(rhs)
-    scaled = [[(rhs[v][col] * scale[col]).coeffs() for col in range(n)] for v in range(k)]
-    b = flint.fmpq_mat(rows, k, [
-        scaled[v][col][t] if t < len(scaled[v][col]) else 0
-        for t in range(D + dm + 1) for col in range(n) for v in range(k)
-    ])
-    bnum, bden = b.numer_denom()
+    bnum, bden = _toeplitz_rhs(coeffs, n, D, rhs)
     crt = solve_reduced_crt(mi, dm, m, n, D, lead, bnum.tolist(), k) if multimodular else None
     if isinstance(crt, str):
         return None  # no solution of degree ≤ D (proved modulo a prime: see _reduced_crt)
@@ -410,18 +526,9 @@ def _solve_reduced_at(
         return None  # no solution of degree ≤ D (proved: see _consistent_mod_p)
     sq = flint.fmpz_mat(u, u, [exact[c][r] for r in chosen for c in range(u)])
     sb = flint.fmpz_mat(u, k, [bnum[r, v] for r in chosen for v in range(k)])
-    snum, sden = solve_square(sq, sb).numer_denom()
+    snum, sden = solve_square(sq, sb, bits=coeffs.bits).numer_denom()
     # the exact check of the whole system: T_P · x = rhs, in integers
     tfull = flint.fmpz_mat(rows, u, [exact[c][r] for r in range(rows) for c in range(u)])
     if tfull * snum != bnum * sden:
         return None  # the reduced solution has degree > D
-    qden = flint.fmpq(bden * sden)
-    out: dn.Rows = []
-    pos = {c: i for i, c in enumerate(unknowns)}
-    for v in range(k):
-        row = []
-        for j in range(m):
-            cs = [snum[pos[e * m + j], v] if (e * m + j) in pos else 0 for e in range(D + 1)]
-            row.append(flint.fmpq_poly(cs) / qden if any(cs) else bk.ZERO)
-        out.append(row)
-    return out
+    return _solution_rows(snum, bden * sden, unknowns, m, D, k)

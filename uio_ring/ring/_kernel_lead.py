@@ -37,19 +37,22 @@ failed solve or check, never as a wrong answer.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import flint
 
 from uio_ring.ring._reduced_crt import solve_reduced_crt
 
-__all__ = ["generators_by_crt", "generators_by_lead_solve", "pivot_columns_mod_p", "solve_square"]
+__all__ = [
+    "LeadSolution", "generators_by_crt", "generators_by_lead_solve", "lead_solve", "pivot_columns_mod_p", "solve_square",
+]
 
 #: The word prime of the rank profiles (2⁶¹ − 1).
 PRIME = (1 << 61) - 1
 
 
-def solve_square(a: flint.fmpz_mat, b: flint.fmpz_mat) -> flint.fmpq_mat:
+def solve_square(a: flint.fmpz_mat, b: flint.fmpz_mat, *, bits: int | None = None) -> flint.fmpq_mat:
     """The X with ``a·X = b`` for a square nonsingular integer n×n matrix a and k
     right-hand sides, exactly, by the cheaper of two exact solvers in C.
 
@@ -65,14 +68,18 @@ def solve_square(a: flint.fmpz_mat, b: flint.fmpz_mat) -> flint.fmpq_mat:
     32-state observability matrix) 0.14 s against 0.80 s by lifting, while a random
     300×300 system with 60-bit entries and 50 right-hand sides takes 18 s by lifting and
     30 s multimodularly.  Either result is exact; the callers also check their whole
-    systems exactly.  Raises ZeroDivisionError when a is singular.
+    systems exactly.  Raises ZeroDivisionError when a is singular.  ``bits``: a bound on
+    the bit length of a's entries, when the caller knows it (the scan of a 66×66 matrix
+    costs 0.8 ms, a solve of it 1 ms); it only chooses the solver.
 
     >>> solve_square(flint.fmpz_mat([[1, 4], [8, 3]]), flint.fmpz_mat([[0], [1]]))
     [ 4/29]
     [-1/29]
     """
     n, k = a.nrows(), b.ncols()
-    w = -(-max((abs(x).bit_length() for x in a.entries()), default=1) // 64)
+    if bits is None:
+        bits = max((abs(x).bit_length() for x in a.entries()), default=1)
+    w = -(-max(bits, 1) // 64)
     if k * w > n + w + k:
         x = a.solve(b)
         assert isinstance(x, flint.fmpq_mat)  # the stubs type the result as any flint matrix
@@ -112,6 +119,19 @@ def column_profile(mat: flint.nmod_mat) -> list[int]:
     return pivots
 
 
+@dataclass(frozen=True)
+class LeadSolution:
+    """What :func:`lead_solve` certified: the Popov generators, and the solution of the
+    extra right-hand sides on the same pivot columns (None: not asked for, or that
+    system has no solution)."""
+
+    #: (leading index e·m + j, coefficient vector indexed e·m + j), as
+    #: :func:`generators_by_lead_solve` returns them.
+    generators: list[tuple[int, list[flint.fmpq]]]
+    #: ``(Y, den)`` with ``T_D[:, P]·Y = den·B`` exactly (Y's rows follow ``pivots``).
+    solution: tuple[flint.fmpz_mat, flint.fmpz] | None = None
+
+
 def generators_by_lead_solve(
     full: list[int], rows: int, cols: int, m: int, p: int = PRIME, *, pivots: list[int] | None = None
 ) -> list[tuple[int, list[flint.fmpq]]] | None:
@@ -124,6 +144,24 @@ def generators_by_lead_solve(
     given, is its column rank profile modulo p (:func:`pivot_columns_mod_p`), or the part
     of the profile of a larger ``T_D`` on these columns (the same thing; not checked: the
     bound dim V_D ≤ |lead_p| of the certificate rests on it)."""
+    got = lead_solve(full, rows, cols, m, p, pivots=pivots)
+    return None if got is None else got.generators
+
+
+def lead_solve(
+    full: list[int], rows: int, cols: int, m: int, p: int = PRIME, *, pivots: list[int] | None = None,
+    extra: flint.fmpz_mat | None = None, bits: int | None = None,
+) -> LeadSolution | None:
+    """:func:`generators_by_lead_solve`, and in the same square solve the system
+    ``T_D[:, P]·Y = B`` for the rows × k integer matrix ``extra`` = B (P: the pivot
+    columns).  When the generators are certified, P is the set of non-leading monomials
+    of degree ≤ D, so Y is the reduced solution of degree ≤ D of the system that B
+    encodes (one solve for Hermite's U = [X; K]: 4×2 of degree 16, 8.8 → 4 ms).  Y is
+    checked exactly on every row of T_D (not needed when ``T_D[:, P]`` is square: its
+    solve is exact); a failed check only sets ``solution`` to None.  ``bits``: a bound on
+    the bit length of the entries (:func:`solve_square`).  Preconditions as for
+    :func:`generators_by_lead_solve`; ``extra`` has ``rows`` rows (not checked).
+    """
     if pivots is None:
         pivots = pivot_columns_mod_p(full, rows, cols, p)
     is_pivot = [False] * cols
@@ -131,23 +169,44 @@ def generators_by_lead_solve(
         is_pivot[c] = True
     gens = [c for c in range(cols) if not is_pivot[c] and (c < m or is_pivot[c - m])]
     if not gens:
-        return []
+        return LeadSolution([])
     if not pivots:  # T_D ≡ 0 mod p: every monomial is a kernel vector iff T_D = 0 over Z
         if any(full):
             return None
-        return [(c, [flint.fmpq(int(i == c)) for i in range(cols)]) for c in gens]
-    # rows of T_D[:, P] making a square system nonsingular modulo p (hence over Q)
-    chosen = pivot_columns_mod_p([full[r * cols + c] for c in pivots for r in range(rows)], len(pivots), rows, p)
-    if len(chosen) < len(pivots):  # pragma: no cover - T_D[:, P] has full column rank mod p
+        return LeadSolution([(c, [flint.fmpq(int(i == c)) for i in range(cols)]) for c in gens])
+    u = len(pivots)
+    square = u == rows
+    # rows of T_D[:, P] making a square system nonsingular modulo p (hence over Q): all
+    # of them when it is square (its columns are independent modulo p)
+    chosen = list(range(rows)) if square else pivot_columns_mod_p(
+        [full[r * cols + c] for c in pivots for r in range(rows)], u, rows, p)
+    if len(chosen) < u:  # pragma: no cover - T_D[:, P] has full column rank mod p
         return None
-    sq = flint.fmpz_mat(len(pivots), len(pivots), [full[r * cols + c] for r in chosen for c in pivots])
-    rhs = flint.fmpz_mat(len(pivots), len(gens), [full[r * cols + c] for r in chosen for c in gens])
-    snum, sden = solve_square(sq, rhs).numer_denom()
-    # exact check of the whole system: T_D[:, P]·x = T_D[:, gens] (that is, g·M = 0)
-    tp = flint.fmpz_mat(rows, len(pivots), [full[r * cols + c] for r in range(rows) for c in pivots])
-    tg = flint.fmpz_mat(rows, len(gens), [full[r * cols + c] for r in range(rows) for c in gens])
-    if tp * snum != tg * sden:
+    k = len(gens)
+    sq = flint.fmpz_mat(u, u, [full[r * cols + c] for r in chosen for c in pivots])
+    rhs = [[full[r * cols + c] for c in gens] for r in chosen]
+    if extra is not None:
+        rhs = [row + [extra[r, v] for v in range(extra.ncols())] for row, r in zip(rhs, chosen, strict=True)]
+    width = k + (0 if extra is None else extra.ncols())
+    try:
+        snum, sden = solve_square(sq, flint.fmpz_mat(u, width, [x for row in rhs for x in row]), bits=bits).numer_denom()
+    except ZeroDivisionError:  # square and singular: ``pivots`` was not a rank profile
         return None
+    solution = None
+    if square:  # the solve of the whole system is exact: nothing to check
+        if extra is not None:
+            solution = (_columns(snum, k, width), sden)
+    else:
+        # exact check of the whole system: T_D[:, P]·x = T_D[:, gens] (that is, g·M = 0)
+        tp = flint.fmpz_mat(rows, u, [full[r * cols + c] for r in range(rows) for c in pivots])
+        tg = flint.fmpz_mat(rows, k, [full[r * cols + c] for r in range(rows) for c in gens])
+        xg = _columns(snum, 0, k)
+        if tp * xg != tg * sden:
+            return None
+        if extra is not None:
+            y = _columns(snum, k, width)
+            if tp * y == extra * sden:
+                solution = (y, sden)
     qden = flint.fmpq(sden)
     out = []
     for v, c in enumerate(gens):
@@ -160,7 +219,12 @@ def generators_by_lead_solve(
                 vec[pc] = -flint.fmpq(x) / qden
         vec[c] = flint.fmpq(1)
         out.append((c, vec))
-    return out
+    return LeadSolution(out, solution)
+
+
+def _columns(a: flint.fmpz_mat, start: int, stop: int) -> flint.fmpz_mat:
+    """The columns start … stop − 1 of a, as a matrix."""
+    return flint.fmpz_mat(a.nrows(), stop - start, [a[i, j] for i in range(a.nrows()) for j in range(start, stop)])
 
 
 def generators_by_crt(

@@ -64,9 +64,20 @@ def _interpolate_mod_p(xs: Sequence[int], ys: Sequence[int], p: int) -> flint.nm
 def det_mod_p(a: dn.Rows, k: int, p: int = PRIME) -> tuple[flint.nmod_poly, int]:
     """``(det Z mod p, b)`` for Z = a with every row scaled to Z[δ] (a unit of Q[δ] per row)
     and b the degree bound of :func:`~uio_ring.ring._evaluation.minor_degree_bound`.
-    Precondition: a is k×k, k ≥ 1 (not checked)."""
+    Precondition: a is k×k, k ≥ 1 (not checked).
+
+    >>> from uio_ring.ring import _backend as bk
+    >>> d = bk.from_coeffs([0, 1])
+    >>> det_mod_p([[d, bk.const(2)], [bk.const(3), d]], 2)    # δ² − 6, within the bound 2
+    (x^2 + 2305843009213693945, 2)
+    >>> det_mod_p([[d, bk.ZERO, bk.ONE], [bk.ONE, d, bk.ZERO], [bk.ZERO, bk.ONE, d]], 3)[0]
+    x^3 + 1
+    """
     z, _ = integer_rows(a)
     bound = ev.minor_degree_bound(a, k, k, k)
+    if k <= 2:  # the products themselves: one or two in GF(p)[δ], no evaluation points
+        e = [[flint.nmod_poly([int(c) % p for c in q.coeffs()], p) for q in r] for r in z]
+        return (e[0][0] if k == 1 else e[0][0] * e[1][1] - e[0][1] * e[1][0]), bound
     deg = max((q.degree() for r in z for q in r), default=0)
     coeffs = [
         flint.nmod_mat(k, k, [int(q[e]) % p if e <= q.degree() else 0 for r in z for q in r], p)

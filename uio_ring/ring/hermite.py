@@ -31,7 +31,7 @@ from uio_ring.ring._echelon import (
     row_echelon,
 )
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_first, generic_hermite
-from uio_ring.ring._kernel_basis import TOEPLITZ_MIN_ROWS, popov_left_kernel, solve_reduced
+from uio_ring.ring._kernel_basis import TOEPLITZ_MIN_ROWS, kernel_and_solution, popov_left_kernel
 from uio_ring.ring._predicates import (
     coprime_maximal_minors,
     det_raw,
@@ -516,15 +516,12 @@ def _hermite_of_dependent_rows(
             if got is not None:
                 return got
         return _hermite_by_weak_popov(M)
-    K = popov_left_kernel(a, m, n, min_rows=0)
-    if K is None:
-        return None
-    X = solve_reduced(a, m, n, K, dn.identity(n))
-    if X is None:
+    both = kernel_and_solution(a, m, n, dn.identity(n), min_rows=0)
+    if both is None or both.solution is None:
         return None
     return HermiteResult(
         H=PolyMatrix._new(dn.identity(n) + dn.zeros(m - n, n), m, n, M.var),
-        U=PolyMatrix._new(X + K, m, m, M.var),
+        U=PolyMatrix._new(both.solution + both.kernel, m, m, M.var),
         rank=n,
         pivots=tuple(range(n)),
     )

@@ -16,7 +16,12 @@ from __future__ import annotations
 
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
-from uio_ring.ring._kernel_basis import ToeplitzCoefficients, popov_left_kernel, solve_reduced
+from uio_ring.ring._kernel_basis import (
+    ToeplitzCoefficients,
+    kernel_and_solution,
+    popov_left_kernel,
+    solve_reduced,
+)
 from uio_ring.ring._predicates import is_unimodular_raw, left_unimodular_proved, rank_raw
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import _hermite_by_small_elimination
@@ -106,11 +111,11 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         # proved coprime (the proof costs more than the usual first solve).
         coeffs = ToeplitzCoefficients.of(M._r, m, n)  # one conversion for both
         # any number of rows: the elimination has stopped on its cap (few rows: of high degree)
-        K = popov_left_kernel(M._r, m, n, coeffs=coeffs, min_rows=0)
-        if K is not None:
-            X = solve_reduced(M._r, m, n, K, dn.identity(n), tries=2, coeffs=coeffs)
+        got = kernel_and_solution(M._r, m, n, dn.identity(n), coeffs=coeffs, min_rows=0, tries=2)
+        if got is not None:
+            X = got.solution
             if X is None and left_unimodular_proved(M._r, m, n):
-                X = solve_reduced(M._r, m, n, K, dn.identity(n), coeffs=coeffs)
+                X = solve_reduced(M._r, m, n, got.kernel, dn.identity(n), coeffs=coeffs)
             if X is not None:
                 return PolyMatrix._new(X, n, m, M.var)
             # not proved left unimodular: the invariant factors decide before the

@@ -32,6 +32,7 @@ from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._generic import generic_first, generic_solve_left
 from uio_ring.ring._kernel_basis import (
     ToeplitzCoefficients,
+    kernel_and_solution,
     popov_left_kernel,
     solve_reduced,
 )
@@ -88,8 +89,9 @@ def solve_left(V: PolyMatrix, W: PolyMatrix) -> PolyMatrix:
             return PolyMatrix._new(got, m, k, V.var)
     if m and k > n:
         coeffs = ToeplitzCoefficients.of(V._r, k, n)
-        kern = popov_left_kernel(V._r, k, n, coeffs=coeffs)
-        got = solve_reduced(V._r, k, n, kern, W._r, tries=3, coeffs=coeffs) if kern else None
+        both = kernel_and_solution(V._r, k, n, W._r, coeffs=coeffs, tries=3)
+        kern = None if both is None else both.kernel
+        got = both.solution if both is not None and kern else None
         if got is None and kern and left_unimodular_proved(V._r, k, n):
             # V is left unimodular: a solution exists, so the degree bounds grow until it
             # is found, instead of the elimination below, which swells (X·Ō = [I; C̄Ā^l] of
