@@ -72,6 +72,7 @@ from uio_ring.ring._kernel_lead import (
     solve_square,
 )
 from uio_ring.ring._kronecker import scaled_numerator
+from uio_ring.ring._minors_kernel import MINORS_MAX_COLUMNS, kernel_by_minors, solution_by_minors
 from uio_ring.ring._predicates import rank_raw
 from uio_ring.ring._reduced_crt import solve_reduced_crt, worthwhile
 
@@ -266,7 +267,9 @@ def popov_left_kernel(
 ) -> dn.Rows | None:
     """The Popov basis of the left kernel of the m×n rows ``a`` (rows sorted by
     pivot degree, then pivot position), or None when m < ``min_rows`` or the
-    Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.
+    Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.  One kernel row ((n+1)×n
+    of rank n, n ≤ :data:`~uio_ring.ring._minors_kernel.MINORS_MAX_COLUMNS`): from the
+    maximal minors instead (:mod:`uio_ring.ring._minors_kernel`).
     Precondition: shape m×n; ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)``
     (not checked)."""
     got = _popov_left_kernel(a, m, n, min_rows, coeffs, None)
@@ -285,7 +288,9 @@ def kernel_and_solution(
     columns of ``T_D`` — so when X has degree ≤ D, the degree bound of K's generators,
     they come from one square solve (:func:`~uio_ring.ring._kernel_lead.lead_solve`;
     Hermite's U = [X; K] of a 4×2 of degree 16: 8.8 → 4 ms).  Otherwise X is sought at
-    the next bounds as :func:`solve_reduced` does (``tries`` of them when given).  X is
+    the next bounds as :func:`solve_reduced` does (``tries`` of them when given).  With
+    one kernel row (as in :func:`popov_left_kernel`) both come from the maximal minors
+    and one inverse modulo a determinant (:mod:`uio_ring.ring._minors_kernel`).  X is
     checked exactly either way; ``solution`` is None when it was not found.
 
     >>> from uio_ring.ring.matrix import PolyMatrix
@@ -318,6 +323,11 @@ def _popov_left_kernel(
         return [], None, -1
     if r == 0:
         return dn.identity(m), None, -1
+    if m == n + 1 and r == n and n <= MINORS_MAX_COLUMNS:
+        # one kernel row: the maximal minors, and X by one inverse modulo det M_R
+        one = kernel_by_minors(a, n)
+        if one is not None:
+            return [one.row], solution_by_minors(a, n, one, rhs) if rhs and one.coprime else None, -1
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
     mi, dm = coeffs.mi, coeffs.dm
     d_cap = MAX_UNKNOWNS // m - 1
