@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from uio_ring.ring import PolyMatrix, _kernel_basis, hermite
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._kernel_basis import kernel_and_solution, popov_left_kernel, solve_reduced
+from uio_ring.ring.kernel import left_kernel_by_elimination
 
 from .strategies import dense_matrices, matrices
 
@@ -94,3 +95,42 @@ def test_an_x_above_the_kernel_bound_is_found_after_it(monkeypatch):
     K, X = _separately(M, W, None)
     assert got.kernel == K and got.solution == X
     assert PolyMatrix._new(X, 1, 4, "d") @ M == W
+
+
+def test_the_generic_guess_needs_no_rank_profile(monkeypatch):
+    """A random 4×2 of degree 8: minimal indices 8 and 8 = 2·8/2, leading monomials the
+    last two columns; the kernel and X come without any modular rank profile, equal to
+    those of the profile route and to the elimination's kernel."""
+    M = _random_tall(random.Random(5), 4, 2, 8)
+    I2 = PolyMatrix.identity(2)
+    want = kernel_and_solution(M._r, 4, 2, I2._r, min_rows=0)
+    with monkeypatch.context() as mp:
+        mp.setattr(_kernel_basis, "_generic_generators", lambda *a, **k: None)
+        profiled = kernel_and_solution(M._r, 4, 2, I2._r, min_rows=0)
+    calls: list = []
+    monkeypatch.setattr(_kernel_basis, "_generator_degree_mod_p", lambda *a, **k: calls.append(1))
+    got = kernel_and_solution(M._r, 4, 2, I2._r, min_rows=0)
+    assert calls == [] and got == want == profiled
+    assert [dn.leading_position(r) for r in got.kernel] == [(8, 2), (8, 3)]
+    assert PolyMatrix._new(got.kernel, 2, 4, M.var) == left_kernel_by_elimination(M)
+
+
+def test_a_wrong_guess_is_refused_and_the_profile_decides():
+    """Minimal indices 0 and 2 (not 1 and 1 = 2·1/2): the guessed square system is
+    singular modulo p, the guess is refused, and the profile route gives the kernel."""
+    M = PolyMatrix("[[-d, d - 2], [d + 2, -2], [-1, 2*d + 2], [d + 2, d - 2]]")
+    coeffs = _kernel_basis.ToeplitzCoefficients.of(M._r, 4, 2)
+    assert _kernel_basis._generic_generators(coeffs, 4, 2, 1, 2, None) is None
+    K = popov_left_kernel(M._r, 4, 2, min_rows=0)
+    assert K is not None and [dn.row_degree(r) for r in K] == [0, 2]
+    assert PolyMatrix._new(K, 2, 4, M.var) == left_kernel_by_elimination(M)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from([(3, 1), (4, 2), (5, 3), (5, 1)]), st.integers(1, 3), st.integers(0, 10**6))
+def test_kernels_of_few_columns_equal_the_elimination(shape, degree, seed):
+    """Whatever route (minors, generic guess, profile), the kernel is the elimination's."""
+    M = _random_tall(random.Random(seed), *shape, degree)
+    K = popov_left_kernel(M._r, *shape, min_rows=0)
+    assert K is not None
+    assert PolyMatrix._new(K, len(K), shape[0], M.var) == left_kernel_by_elimination(M)
