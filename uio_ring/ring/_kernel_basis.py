@@ -287,7 +287,8 @@ def kernel_and_solution(
     Both are solutions on the same unknowns — the non-leading monomials, the pivot
     columns of ``T_D`` — so when X has degree ≤ D, the degree bound of K's generators,
     they come from one square solve (:func:`~uio_ring.ring._kernel_lead.lead_solve`;
-    Hermite's U = [X; K] of a 4×2 of degree 16: 8.8 → 4 ms).  Otherwise X is sought at
+    Hermite's U = [X; K] of a 4×2 of degree 16: 8.8 → 4 ms; 2.7 ms when the generic
+    minimal indices are guessed, :func:`_generic_generators`).  Otherwise X is sought at
     the next bounds as :func:`solve_reduced` does (``tries`` of them when given).  With
     one kernel row (as in :func:`popov_left_kernel`) both come from the maximal minors
     and one inverse modulo a determinant (:mod:`uio_ring.ring._minors_kernel`).  X is
@@ -357,17 +358,8 @@ def _popov_left_kernel(
             # rank n: the solve as a Schur complement modulo primes (_reduced_crt)
             lead = generators_by_crt(mi, dm, m, n, D_use, pivots)
         else:
-            extra = None
-            if rhs is not None and rhs and dn.mat_degree(rhs) <= D_use + dm:
-                extra, bden = _toeplitz_rhs(coeffs, n, D_use, rhs)
-            got = lead_solve(_toeplitz_entries(mi, m, n, dm, D_use, None), n * (D_use + dm + 1), m * (D_use + 1),
-                             m, pivots=pivots, extra=extra, bits=coeffs.bits)
-            lead = None if got is None else got.generators
-            if got is not None and extra is not None:
-                refuted = D_use
-                if got.solution is not None:
-                    ynum, yden = got.solution
-                    X = _solution_rows(ynum, bden * yden, pivots, m, D_use, extra.ncols())
+            lead, X, sought = _solve_on_pivots(coeffs, m, n, D_use, pivots, rhs)
+            refuted = D_use if sought and X is None else -1
         if lead is not None and D_use < D:
             if len(lead) == k:
                 # certified at D' < D: lead_Q = lead_p there, and lead_p has all k generators
@@ -416,19 +408,30 @@ def _generic_generators(
     p (:func:`~uio_ring.ring._kernel_lead.lead_solve` refuses a square system singular
     there).  The leading monomials are not always the last columns: a 5×3 of degree 48
     with zero leading coefficients has them at positions 2 and 4."""
-    dm = coeffs.dm
-    cols, rows = m * (D + 1), n * (D + dm + 1)
-    pivots = list(range(cols - k))
-    extra, bden = _toeplitz_rhs(coeffs, n, D, rhs) if rhs and dn.mat_degree(rhs) <= D + dm else (None, None)
-    got = lead_solve(_toeplitz_entries(coeffs.mi, m, n, dm, D, None), rows, cols, m, pivots=pivots, extra=extra,
-                     bits=coeffs.bits)
-    if got is None or len(got.generators) != k:
+    generators, X, _ = _solve_on_pivots(coeffs, m, n, D, list(range(m * (D + 1) - k)), rhs)
+    if generators is None or len(generators) != k:
         return None
+    return generators, X
+
+
+def _solve_on_pivots(
+    coeffs: ToeplitzCoefficients, m: int, n: int, D: int, pivots: list[int], rhs: dn.Rows | None
+) -> tuple[list[tuple[int, list[flint.fmpq]]] | None, dn.Rows | None, bool]:
+    """``(generators, X, sought)``: :func:`~uio_ring.ring._kernel_lead.lead_solve` on
+    ``T_D`` with these pivot columns (None: refused), with the right-hand sides of
+    ``X·M = rhs`` in the same solve when their degree is ≤ D + deg M (``sought``) — X
+    then, or None when that system has no solution."""
+    dm = coeffs.dm
+    extra, bden = _toeplitz_rhs(coeffs, n, D, rhs) if rhs and dn.mat_degree(rhs) <= D + dm else (None, None)
+    got = lead_solve(_toeplitz_entries(coeffs.mi, m, n, dm, D, None), n * (D + dm + 1), m * (D + 1), m,
+                     pivots=pivots, extra=extra, bits=coeffs.bits)
+    if got is None:
+        return None, None, False
     X = None
     if got.solution is not None and extra is not None and bden is not None:
         ynum, yden = got.solution
         X = _solution_rows(ynum, bden * yden, pivots, m, D, extra.ncols())
-    return got.generators, X
+    return got.generators, X, extra is not None
 
 
 def _toeplitz_rhs(coeffs: ToeplitzCoefficients, n: int, D: int, rhs: dn.Rows) -> tuple[flint.fmpz_mat, flint.fmpz]:

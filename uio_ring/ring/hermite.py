@@ -602,10 +602,11 @@ def kernel_of_few_rows(M: PolyMatrix) -> PolyMatrix:
     (:func:`_few_rows_of_high_degree`): the kernel rows of :func:`hermite`'s transform,
     and when M has full column rank (and more than two rows) by the same steps without
     the top rows — the capped elimination first (a 3×2 of degree 127 of the observability
-    algorithm: 1 ms, where the Toeplitz systems take seconds), then the block-Toeplitz
-    kernel alone, without the reduced solution X of :func:`_hermite_of_dependent_rows`
-    (half its time: 4×2 of degree 16, 8.8 → 4.0 ms; 5×4 of degree 48, 3.7 → 1.3 s).  The
-    basis is unique, so it is the same.  A rank-deficient M keeps :func:`hermite`, whose
+    algorithm: 1 ms, where the Toeplitz systems take seconds), then
+    :func:`~uio_ring.ring._kernel_basis.popov_left_kernel` alone, without the reduced
+    solution X of :func:`_hermite_of_dependent_rows` (4×2 of degree 16: 8.8 → 4.0 ms,
+    before X shared the kernel's solve; one kernel row comes from the maximal minors:
+    5×4 of degree 48, 3.7 s → 1.1 ms).  The basis is unique, so it is the same.  A rank-deficient M keeps :func:`hermite`, whose
     weak Popov path is faster there than the Toeplitz kernel (4×3 of rank 2 and degree
     48: 32 against 37 ms).
 
