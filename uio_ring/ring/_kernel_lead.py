@@ -184,7 +184,10 @@ def lead_solve(
     if len(chosen) < u:  # pragma: no cover - T_D[:, P] has full column rank mod p
         return None
     k = len(gens)
-    sq = flint.fmpz_mat(u, u, [full[r * cols + c] for r in chosen for c in pivots])
+    if pivots[-1] == u - 1:  # the first u columns (the generic guess): slices of the rows
+        sq = flint.fmpz_mat(u, u, [x for r in chosen for x in full[r * cols : r * cols + u]])
+    else:
+        sq = flint.fmpz_mat(u, u, [full[r * cols + c] for r in chosen for c in pivots])
     if square and flint.nmod_mat(sq, p).det() == 0:
         return None  # singular modulo p: ``pivots`` is not its rank profile (or p is unlucky);
         # flint's exact solve would take far longer to find out (a 363×363: 0.3 s)
