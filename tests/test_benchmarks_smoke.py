@@ -94,3 +94,34 @@ def test_small_cells_worker_times_every_cell_and_needs_sage_for_the_table():
     env = {k: v for k, v in os.environ.items() if k != "UIO_SAGE_PYTHON"}
     proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60, env=env)
     assert proc.returncode == 2 and "--sage-python" in proc.stderr
+
+
+def test_count_instructions_runs_its_workers_under_valgrind_and_divides_by_the_calls(tmp_path):
+    """A stand-in ``valgrind`` on PATH runs the worker command it is given (the real
+    worker: case built, operation called) and reports 4 000 000 instructions per call
+    counted; the table then reads 4.00 M.  Without valgrind, or with a malformed cell:
+    exit 2 and one line."""
+    script = BENCH.parent / "count_instructions.py"
+    fake = tmp_path / "valgrind"
+    fake.write_text(
+        "#!" + sys.executable + "\n"
+        "import subprocess, sys\n"
+        "cmd = [a for a in sys.argv[1:] if not a.startswith('--') or a == '--worker']\n"
+        "got = subprocess.run(cmd, capture_output=True, text=True)\n"
+        "sys.stderr.write(got.stderr)\n"
+        "sys.stderr.write('==1== Collected : %d\\n' % (4000000 * int(cmd[-1])))\n"
+        "sys.exit(got.returncode)\n")
+    fake.chmod(0o755)
+    env = dict(os.environ, PATH=f"{tmp_path}{os.pathsep}{os.environ['PATH']}")
+    env.pop("UIO_SAGE_PYTHON", None)
+    proc = subprocess.run([sys.executable, str(script), "paper001:6:6x4:hermite", "--calls", "2"],
+                          capture_output=True, text=True, timeout=300, env=env)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "paper001:6:6x4:hermite" in proc.stdout and "4.00" in proc.stdout
+    no_valgrind = dict(env, PATH=str(Path(sys.executable).parent))
+    proc = subprocess.run([sys.executable, str(script), "paper001:6:6x4:hermite"],
+                          capture_output=True, text=True, timeout=60, env=no_valgrind)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "valgrind" in proc.stderr
+    proc = subprocess.run([sys.executable, str(script), "paper001-6-hermite"],
+                          capture_output=True, text=True, timeout=60, env=env)
+    assert proc.returncode == 2 and "family:n:RxC:operation" in proc.stderr
