@@ -340,8 +340,8 @@ def _popov_left_kernel(
     if r == n and bound == n * dm and bound % k == 0 and D == bound // k and not crt:
         generic = _generic_generators(coeffs, m, n, D, k, rhs)
         if generic is not None:
-            generators, solution = generic
-            return _kernel_rows(generators, m, D), solution, (D if rhs and solution is None else -1)
+            generators, solution, sought = generic
+            return _kernel_rows(generators, m, D), solution, (D if sought and solution is None else -1)
     X: dn.Rows | None = None
     refuted = -1
     while True:
@@ -390,10 +390,11 @@ def _kernel_rows(gens: list[tuple[int, list[flint.fmpq]]], m: int, D: int) -> dn
 
 def _generic_generators(
     coeffs: ToeplitzCoefficients, m: int, n: int, D: int, k: int, rhs: dn.Rows | None
-) -> tuple[list[tuple[int, list[flint.fmpq]]], dn.Rows | None] | None:
+) -> tuple[list[tuple[int, list[flint.fmpq]]], dn.Rows | None, bool] | None:
     """The k Popov generators when every minimal index is D = n·deg M / k — the generic
     case, Σ d_i = b_r = n·deg M — found without a rank profile, with the reduced solution
-    of ``X·M = rhs`` of degree ≤ D when there is one; None when M is not generic so.
+    of ``X·M = rhs`` of degree ≤ D when there is one, and whether it was sought (as
+    :func:`_solve_on_pivots`); None when M is not generic so.
 
     The guess: the leading monomials are the last k columns δ^D·e_j (j ≥ m − k), so the
     unknowns P are all the other columns, and ``T_D[:, P]`` is square (m·(D + 1) − k =
@@ -408,10 +409,10 @@ def _generic_generators(
     p (:func:`~uio_ring.ring._kernel_lead.lead_solve` refuses a square system singular
     there).  The leading monomials are not always the last columns: a 5×3 of degree 48
     with zero leading coefficients has them at positions 2 and 4."""
-    generators, X, _ = _solve_on_pivots(coeffs, m, n, D, list(range(m * (D + 1) - k)), rhs)
+    generators, X, sought = _solve_on_pivots(coeffs, m, n, D, list(range(m * (D + 1) - k)), rhs)
     if generators is None or len(generators) != k:
         return None
-    return generators, X
+    return generators, X, sought
 
 
 def _solve_on_pivots(
