@@ -71,9 +71,25 @@ def test_closed_form_2x2_adjugate(P):
     assert PolyMatrix._new([[det]], 1, 1, P.var)[0, 0] == P.det()
 
 
+@given(st.integers(3, 5).flatmap(lambda k: dense_matrices(rows=k, cols=k, max_degree=3)))
+def test_adjugate_by_cofactors_equals_adjugate_by_evaluation(P):
+    """3×3 and 4×4 by cofactors, 5×5 by evaluation: P·adj P = adj P·P = det P·I, and the
+    two methods agree wherever both apply (P nonsingular)."""
+    k = P.rows
+    if P.det().is_zero():
+        return
+    det, adj = dv.adjugate(P._r, k)
+    A = PolyMatrix._new(adj, k, k, P.var)
+    D = PolyMatrix._new([[det if i == j else bk.ZERO for j in range(k)] for i in range(k)], k, k, P.var)
+    assert P @ A == D and A @ P == D
+    assert PolyMatrix._new([[det]], 1, 1, P.var)[0, 0] == P.det()
+    if k <= dv.COFACTOR_MAX_SIZE:
+        assert dv._adjugate_by_evaluation(P._r, k) == (det, adj)
+
+
 @given(st.data())
 def test_popov_divisor_remainder_equals_term_by_term_reduction(data):
-    """A Popov basis (of 1 to 3 rows, so that both adjugate branches run) from a
+    """A Popov basis (of 1 to 3 rows, so that the closed forms and the cofactors run) from a
     random left kernel; random rows reduced by it both ways."""
     k = data.draw(st.integers(1, 3))
     n = data.draw(st.integers(1, 3))

@@ -34,9 +34,15 @@ from uio_ring.ring import _evaluation as ev
 __all__ = ["reduce_modulo_popov", "adjugate", "PopovDivisor"]
 
 
+#: Up to this size the adjugate is taken by cofactors (minors of size ≤ 3 by their
+#: closed forms, :func:`~uio_ring.ring._dense.det_closed_form`); above, by evaluation.
+COFACTOR_MAX_SIZE = 4
+
+
 def adjugate(p: dn.Rows, k: int) -> tuple[flint.fmpq_poly, dn.Rows]:
-    """``(det P, adj P)`` of a k×k nonsingular P, by evaluation at points where
-    P(x) is nonsingular and interpolation (degree bounds from
+    """``(det P, adj P)`` of a k×k nonsingular P: by cofactors up to
+    :data:`COFACTOR_MAX_SIZE`, else by evaluation at points where P(x) is nonsingular
+    and interpolation (degree bounds from
     :func:`~uio_ring.ring._evaluation.minor_degree_bound`).
     Precondition: k ≥ 1, P nonsingular (not checked)."""
     if k == 1:
@@ -44,6 +50,29 @@ def adjugate(p: dn.Rows, k: int) -> tuple[flint.fmpq_poly, dn.Rows]:
     if k == 2:  # the closed form: no evaluation points, no interpolation
         (a, b), (c, d) = p
         return a * d - b * c, [[d, -b], [-c, a]]
+    if k <= COFACTOR_MAX_SIZE:
+        return _adjugate_by_cofactors(p, k)
+    return _adjugate_by_evaluation(p, k)
+
+
+def _adjugate_by_cofactors(p: dn.Rows, k: int) -> tuple[flint.fmpq_poly, dn.Rows]:
+    """:func:`adjugate` from the k² cofactors: entry (j, i) of adj P is
+    (−1)^(i+j)·det of P without row i and column j, and det P = Σ_j P[0][j]·adj[j][0]."""
+    adj = [[bk.ZERO] * k for _ in range(k)]
+    for i in range(k):
+        rows = p[:i] + p[i + 1 :]
+        for j in range(k):
+            minor = dn.det_closed_form([r[:j] + r[j + 1 :] for r in rows], k - 1)
+            adj[j][i] = -minor if (i + j) % 2 else minor
+    det = bk.ZERO
+    for j in range(k):
+        if not p[0][j].is_zero():
+            det += p[0][j] * adj[j][0]
+    return det, adj
+
+
+def _adjugate_by_evaluation(p: dn.Rows, k: int) -> tuple[flint.fmpq_poly, dn.Rows]:
+    """:func:`adjugate` by evaluation and interpolation."""
     dbound = ev.minor_degree_bound(p, k, k, k)
     abound = ev.minor_degree_bound(p, k, k, k - 1)
     count = max(dbound, abound) + 1

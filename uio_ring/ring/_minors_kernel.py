@@ -34,6 +34,7 @@ import flint
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._division import adjugate
 from uio_ring.ring._predicates import det_raw
 
 __all__ = ["MINORS_MAX_COLUMNS", "MinorsKernel", "kernel_by_minors", "solution_by_minors"]
@@ -92,10 +93,8 @@ def solution_by_minors(a: dn.Rows, n: int, kernel: MinorsKernel, rhs: dn.Rows) -
     """
     _, pi = dn.leading_position(kernel.row)
     rest = [r for r in range(n + 1) if r != pi]
-    m_r = [a[r] for r in rest]
-    f = det_raw(m_r, n)
-    adj = _adjugate(m_r, n)
-    v = _row_times(a[pi], adj, n)
+    f, adj = adjugate([a[r] for r in rest], n)
+    v = dn.matmul([a[pi]], adj, 1, n, n)[0]
     # f constant: x_π = 0 (degree < 0), every row of X is w·A / f
     found = ([0] * n, bk.ZERO) if f.degree() == 0 else _coprime_combination(v, f, n)
     if found is None:
@@ -103,7 +102,7 @@ def solution_by_minors(a: dn.Rows, n: int, kernel: MinorsKernel, rhs: dn.Rows) -
     lam, s = found
     out: dn.Rows = []
     for y in rhs:
-        b = _row_times(y, adj, n)
+        b = dn.matmul([y], adj, 1, n, n)[0]
         z = bk.ZERO
         for lj, bj in zip(lam, b, strict=True):
             if lj:
@@ -119,32 +118,6 @@ def solution_by_minors(a: dn.Rows, n: int, kernel: MinorsKernel, rhs: dn.Rows) -
         out.append(x)
     if dn.matmul(out, a, len(out), n + 1, n) != [list(r) for r in rhs]:  # pragma: no cover - proven
         raise ArithmeticError("the solution by minors failed its check X·M = W")
-    return out
-
-
-def _adjugate(m: dn.Rows, n: int) -> dn.Rows:
-    """adj m (``adj m · m = det m · I``) of the n×n rows m: entry (j, i) is the cofactor
-    (−1)^(i+j)·det m without row i and column j."""
-    if n == 1:
-        return [[bk.ONE]]
-    adj = [[bk.ZERO] * n for _ in range(n)]
-    for i in range(n):
-        rows = m[:i] + m[i + 1 :]
-        for j in range(n):
-            minor = det_raw([r[:j] + r[j + 1 :] for r in rows], n - 1)
-            adj[j][i] = -minor if (i + j) % 2 else minor
-    return adj
-
-
-def _row_times(y: list[flint.fmpq_poly], b: dn.Rows, n: int) -> list[flint.fmpq_poly]:
-    """The row y (n entries) times the n×n rows b."""
-    out = []
-    for col in range(n):
-        acc = bk.ZERO
-        for k in range(n):
-            if not y[k].is_zero() and not b[k][col].is_zero():
-                acc += y[k] * b[k][col]
-        out.append(acc)
     return out
 
 

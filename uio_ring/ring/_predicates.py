@@ -26,7 +26,6 @@ Degrees: ``deg 0 = -1``.
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
 
 import flint
 
@@ -97,16 +96,8 @@ def rank_raw(a: dn.Rows, m: int, n: int) -> int:
 
 def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
     """Determinant of the n×n rows ``a``.  Precondition: square (not checked)."""
-    if n == 0:
-        return bk.ONE
-    if n == 1:
-        return a[0][0] * bk.ONE  # a new object: entries are never shared with a result
-    if n == 2:  # the formula: no evaluation (a 2×2 of degree 256 has 513 points)
-        return a[0][0] * a[1][1] - a[0][1] * a[1][0]
-    if n == 3:
-        return _det3(a)
-    if n == 4:
-        return _det4(a)
+    if n <= dn.CLOSED_FORM_MAX_SIZE:  # no evaluation (a 2×2 of degree 256 has 513 points)
+        return dn.det_closed_form(a, n)
     if ff.prefer_fraction_free(a, n):
         return ff.det_fraction_free(a, n)
     coeffs = ev.coefficient_mats(a, n, n)
@@ -114,36 +105,6 @@ def det_raw(a: dn.Rows, n: int) -> flint.fmpq_poly:
     xs = ev.first_points(bound + 1)
     ys = [ev.det_at(coeffs, x) for x in xs]
     return ev.interpolate(xs, ys)
-
-
-def _det3(a: dn.Rows) -> flint.fmpq_poly:
-    """The 3×3 determinant by cofactors along the first row: nine products, where the
-    fraction-free elimination or the interpolation of :func:`det_raw` cost 3–8× more
-    (degree 16, coefficients in [−3, 3]: 19 against 3.2 µs; degree 48 with 64-bit
-    coefficients: 317 against 120 µs)."""
-    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = a
-    return a00 * (a11 * a22 - a12 * a21) - a01 * (a10 * a22 - a12 * a20) + a02 * (a10 * a21 - a11 * a20)
-
-
-def _det4(a: dn.Rows) -> flint.fmpq_poly:
-    """The 4×4 determinant by Laplace expansion along the first two rows: six 2×2 minors
-    of rows 0, 1 times the complementary minors of rows 2, 3, with sign
-    (−1)^(1 + j + k) for columns j < k (1.6–3× faster than :func:`det_raw`'s general paths:
-    degree 16, 50 against 22 µs; degree 48 with 64-bit coefficients, 1.66 against 0.52 ms).
-
-    >>> from uio_ring.ring.matrix import PolyMatrix
-    >>> M = PolyMatrix([["d", 1, 0, 2], [0, "d", 1, 0], [3, 0, "d", 1], [1, 1, 0, "d"]])
-    >>> _det4(M._r) == ff.det_fraction_free(M._r, 4)   # Bareiss over Z[δ]
-    True
-    """
-    r0, r1, r2, r3 = a
-
-    def minor(x: Sequence[flint.fmpq_poly], y: Sequence[flint.fmpq_poly], j: int, k: int) -> flint.fmpq_poly:
-        return x[j] * y[k] - x[k] * y[j]
-
-    return (minor(r0, r1, 0, 1) * minor(r2, r3, 2, 3) - minor(r0, r1, 0, 2) * minor(r2, r3, 1, 3)
-            + minor(r0, r1, 0, 3) * minor(r2, r3, 1, 2) + minor(r0, r1, 1, 2) * minor(r2, r3, 0, 3)
-            - minor(r0, r1, 1, 3) * minor(r2, r3, 0, 2) + minor(r0, r1, 2, 3) * minor(r2, r3, 0, 1))
 
 
 def is_unimodular_raw(a: dn.Rows, m: int, n: int) -> bool:

@@ -606,9 +606,9 @@ def kernel_of_few_rows(M: PolyMatrix) -> PolyMatrix:
     :func:`~uio_ring.ring._kernel_basis.popov_left_kernel` alone, without the reduced
     solution X of :func:`_hermite_of_dependent_rows` (4×2 of degree 16: 8.8 → 4.0 ms,
     before X shared the kernel's solve; one kernel row comes from the maximal minors:
-    5×4 of degree 48, 3.7 s → 1.1 ms).  The basis is unique, so it is the same.  A rank-deficient M keeps :func:`hermite`, whose
-    weak Popov path is faster there than the Toeplitz kernel (4×3 of rank 2 and degree
-    48: 32 against 37 ms).
+    5×4 of degree 48, 3.7 s → 1.1 ms).  The basis is unique, so it is the same.  A
+    rank-deficient M keeps :func:`hermite`, whose weak Popov path is faster there than
+    the Toeplitz kernel (4×3 of rank 2 and degree 48: 32 against 37 ms).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([["d**8 + 1", "d"], ["d", "d**8 - 1"], [1, "d**9"]])
