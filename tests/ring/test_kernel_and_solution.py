@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from uio_ring.ring import PolyMatrix, _kernel_basis, hermite
+from uio_ring.ring import PolyMatrix, _kernel_basis, _kernel_lead, hermite
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._kernel_basis import kernel_and_solution, popov_left_kernel, solve_reduced
 from uio_ring.ring.kernel import left_kernel_by_elimination
@@ -115,12 +115,17 @@ def test_the_generic_guess_needs_no_rank_profile(monkeypatch):
     assert PolyMatrix._new(got.kernel, 2, 4, M.var) == left_kernel_by_elimination(M)
 
 
-def test_a_wrong_guess_is_refused_and_the_profile_decides():
+def test_a_wrong_guess_is_refused_and_the_profile_decides(monkeypatch):
     """Minimal indices 0 and 2 (not 1 and 1 = 2·1/2): the guessed square system is
-    singular modulo p, the guess is refused, and the profile route gives the kernel."""
+    singular, the guess is refused by its determinant modulo the guard prime before any
+    exact solve, and the profile route gives the kernel."""
     M = PolyMatrix("[[-d, d - 2], [d + 2, -2], [-1, 2*d + 2], [d + 2, d - 2]]")
     coeffs = _kernel_basis.ToeplitzCoefficients.of(M._r, 4, 2)
-    assert _kernel_basis._generic_generators(coeffs, 4, 2, 1, 2, None) is None
+    with monkeypatch.context() as mp:
+        solves: list = []
+        mp.setattr(_kernel_lead, "solve_square", lambda *a, **k: solves.append(1))
+        assert _kernel_basis._generic_generators(coeffs, 4, 2, 1, 2, None) is None
+        assert solves == []
     K = popov_left_kernel(M._r, 4, 2, min_rows=0)
     assert K is not None and [dn.row_degree(r) for r in K] == [0, 2]
     assert PolyMatrix._new(K, 2, 4, M.var) == left_kernel_by_elimination(M)

@@ -406,26 +406,28 @@ def _generic_generators(
     so every Popov row has degree D and is the reduced echelon vector of V_D it leads —
     the solution found (the rank, hence k = m − rank M, is exact).  Saves the modular rank
     profiles (4×2 of degree 16: 0.3 of 2.7 ms); a wrong guess costs a determinant modulo
-    p (:func:`~uio_ring.ring._kernel_lead.lead_solve` refuses a square system singular
-    there).  The leading monomials are not always the last columns: a 5×3 of degree 48
+    a prime (:func:`~uio_ring.ring._kernel_lead.lead_solve` with ``guessed`` refuses a
+    square system singular there).  The leading monomials are not always the last columns: a 5×3 of degree 48
     with zero leading coefficients has them at positions 2 and 4."""
-    generators, X, sought = _solve_on_pivots(coeffs, m, n, D, list(range(m * (D + 1) - k)), rhs)
+    generators, X, sought = _solve_on_pivots(coeffs, m, n, D, list(range(m * (D + 1) - k)), rhs, guessed=True)
     if generators is None or len(generators) != k:
         return None
     return generators, X, sought
 
 
 def _solve_on_pivots(
-    coeffs: ToeplitzCoefficients, m: int, n: int, D: int, pivots: list[int], rhs: dn.Rows | None
+    coeffs: ToeplitzCoefficients, m: int, n: int, D: int, pivots: list[int], rhs: dn.Rows | None,
+    *, guessed: bool = False,
 ) -> tuple[list[tuple[int, list[flint.fmpq]]] | None, dn.Rows | None, bool]:
     """``(generators, X, sought)``: :func:`~uio_ring.ring._kernel_lead.lead_solve` on
     ``T_D`` with these pivot columns (None: refused), with the right-hand sides of
     ``X·M = rhs`` in the same solve when their degree is ≤ D + deg M (``sought``) — X
-    then, or None when that system has no solution."""
+    then, or None when that system has no solution.  ``guessed``: the pivot columns are
+    a guess, not a rank profile (``lead_solve``'s)."""
     dm = coeffs.dm
     extra, bden = _toeplitz_rhs(coeffs, n, D, rhs) if rhs and dn.mat_degree(rhs) <= D + dm else (None, None)
     got = lead_solve(_toeplitz_entries(coeffs.mi, m, n, dm, D, None), n * (D + dm + 1), m * (D + 1), m,
-                     pivots=pivots, extra=extra, bits=coeffs.bits)
+                     pivots=pivots, extra=extra, bits=coeffs.bits, guessed=guessed)
     if got is None:
         return None, None, False
     X = None

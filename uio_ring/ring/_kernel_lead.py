@@ -51,6 +51,13 @@ __all__ = [
 #: The word prime of the rank profiles (2⁶¹ − 1).
 PRIME = (1 << 61) - 1
 
+#: The prime of the determinant that refuses a guessed square system before its exact
+#: solve (2²⁶ − 5): flint's determinant modulo a prime below 2²⁶ takes 0.55–0.6 of the
+#: time modulo PRIME (66×66: 84 against 152 µs; 363×363: 6.1 against 10.1 ms), and a
+#: nonsingular system refused by bad luck (probability about 2⁻²⁶) only costs the
+#: rank profile the guess was to save.
+GUARD_PRIME = (1 << 26) - 5
+
 
 def solve_square(a: flint.fmpz_mat, b: flint.fmpz_mat, *, bits: int | None = None) -> flint.fmpq_mat:
     """The X with ``a·X = b`` for a square nonsingular integer n×n matrix a and k
@@ -150,7 +157,7 @@ def generators_by_lead_solve(
 
 def lead_solve(
     full: list[int], rows: int, cols: int, m: int, p: int = PRIME, *, pivots: list[int] | None = None,
-    extra: flint.fmpz_mat | None = None, bits: int | None = None,
+    extra: flint.fmpz_mat | None = None, bits: int | None = None, guessed: bool = False,
 ) -> LeadSolution | None:
     """:func:`generators_by_lead_solve`, and in the same square solve the system
     ``T_D[:, P]·Y = B`` for the rows × k integer matrix ``extra`` = B (P: the pivot
@@ -158,10 +165,14 @@ def lead_solve(
     of degree ≤ D, so Y is the reduced solution of degree ≤ D of the system that B
     encodes (one solve for Hermite's U = [X; K]: a 4×2 of degree 16 took 8.8 ms for
     the two apart, 4 ms in one).  Y is checked exactly on every row of T_D (not needed
-    when ``T_D[:, P]`` is square: its solve is exact, after a determinant modulo p has
-    refused a singular one); a failed check only sets ``solution`` to None.  ``bits``: a bound on
-    the bit length of the entries (:func:`solve_square`).  Preconditions as for
-    :func:`generators_by_lead_solve`; ``extra`` has ``rows`` rows (not checked).
+    when ``T_D[:, P]`` is square: its solve is exact); a failed check only sets
+    ``solution`` to None.  ``bits``: a bound on the bit length of the entries
+    (:func:`solve_square`).  ``guessed``: P is a guess, not a rank profile modulo p, so a
+    square ``T_D[:, P]`` may be singular; one determinant modulo :data:`GUARD_PRIME`
+    refuses it first (flint's exact solve would take far longer to find out: a 363×363,
+    0.3 s).  A square ``T_D[:, P]`` on a rank profile is nonsingular modulo p, so over Q.
+    Preconditions as for :func:`generators_by_lead_solve`; ``extra`` has ``rows`` rows
+    (not checked).
     """
     if pivots is None:
         pivots = pivot_columns_mod_p(full, rows, cols, p)
@@ -188,9 +199,8 @@ def lead_solve(
         sq = flint.fmpz_mat(u, u, [x for r in chosen for x in full[r * cols : r * cols + u]])
     else:
         sq = flint.fmpz_mat(u, u, [full[r * cols + c] for r in chosen for c in pivots])
-    if square and flint.nmod_mat(sq, p).det() == 0:
-        return None  # singular modulo p: ``pivots`` is not its rank profile (or p is unlucky);
-        # flint's exact solve would take far longer to find out (a 363×363: 0.3 s)
+    if square and guessed and flint.nmod_mat(sq, GUARD_PRIME).det() == 0:
+        return None  # singular modulo the guard prime: the guess was wrong (or the prime unlucky)
     rhs = [[full[r * cols + c] for c in gens] for r in chosen]
     if extra is not None:
         rhs = [row + [extra[r, v] for v in range(extra.ncols())] for row, r in zip(rhs, chosen, strict=True)]
