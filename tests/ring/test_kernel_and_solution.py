@@ -115,6 +115,30 @@ def test_the_generic_guess_needs_no_rank_profile(monkeypatch):
     assert PolyMatrix._new(got.kernel, 2, 4, M.var) == left_kernel_by_elimination(M)
 
 
+@pytest.mark.parametrize(("shape", "degree", "indices"), [
+    ((4, 1), 8, [2, 3, 3]),          # k = 3 does not divide n·deg M = 8: degrees D − 1 and D
+    ((6, 1), 16, [3, 3, 3, 3, 4]),
+    ((5, 2), 7, [4, 5, 5]),
+])
+def test_the_generic_guess_with_two_minimal_indices(monkeypatch, shape, degree, indices):
+    """When k does not divide n·deg M the generic minimal indices are ⌈n·deg M / k⌉ and
+    one less: still no modular rank profile, and the same kernel and X as the profile
+    route and the elimination."""
+    m, n = shape
+    M = _random_tall(random.Random(3), m, n, degree)
+    rhs = PolyMatrix.identity(n)._r
+    with monkeypatch.context() as mp:
+        mp.setattr(_kernel_basis, "_generic_generators", lambda *a, **k: None)
+        profiled = kernel_and_solution(M._r, m, n, rhs, min_rows=0)
+    calls: list = []
+    monkeypatch.setattr(_kernel_basis, "_generator_degree_mod_p", lambda *a, **k: calls.append(1))
+    got = kernel_and_solution(M._r, m, n, rhs, min_rows=0)
+    assert calls == [] and got == profiled
+    assert sorted(dn.row_degree(r) for r in got.kernel) == indices
+    assert PolyMatrix._new(got.kernel, m - n, m, M.var) == left_kernel_by_elimination(M)
+    assert dn.matmul(got.solution, M._r, n, m, n) == rhs
+
+
 def test_a_wrong_guess_is_refused_and_the_profile_decides(monkeypatch):
     """Minimal indices 0 and 2 (not 1 and 1 = 2·1/2): the guessed square system is
     singular, the guess is refused by its determinant modulo the guard prime before any
@@ -132,7 +156,8 @@ def test_a_wrong_guess_is_refused_and_the_profile_decides(monkeypatch):
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.sampled_from([(3, 1), (4, 2), (5, 3), (5, 1)]), st.integers(1, 3), st.integers(0, 10**6))
+@given(st.sampled_from([(3, 1), (4, 2), (5, 3), (5, 1), (4, 1), (5, 2), (6, 1)]), st.integers(1, 3),
+       st.integers(0, 10**6))
 def test_kernels_of_few_columns_equal_the_elimination(shape, degree, seed):
     """Whatever route (minors, generic guess, profile), the kernel is the elimination's."""
     M = _random_tall(random.Random(seed), *shape, degree)

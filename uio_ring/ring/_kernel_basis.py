@@ -337,7 +337,7 @@ def _popov_left_kernel(
     bound = ev.minor_degree_bound(a, m, n, r)
     D = min(-(-bound // k), d_cap)
     crt = 2 * k < m and r == n and worthwhile(n, dm)
-    if r == n and bound == n * dm and bound % k == 0 and D == bound // k and not crt:
+    if r == n and bound == n * dm and D == -(-bound // k) and not crt:
         generic = _generic_generators(coeffs, m, n, D, k, rhs)
         if generic is not None:
             generators, solution, sought = generic
@@ -391,28 +391,49 @@ def _kernel_rows(gens: list[tuple[int, list[flint.fmpq]]], m: int, D: int) -> dn
 def _generic_generators(
     coeffs: ToeplitzCoefficients, m: int, n: int, D: int, k: int, rhs: dn.Rows | None
 ) -> tuple[list[tuple[int, list[flint.fmpq]]], dn.Rows | None, bool] | None:
-    """The k Popov generators when every minimal index is D = n·deg M / k — the generic
-    case, Σ d_i = b_r = n·deg M — found without a rank profile, with the reduced solution
-    of ``X·M = rhs`` of degree ≤ D when there is one, and whether it was sought (as
-    :func:`_solve_on_pivots`); None when M is not generic so.
+    """The k Popov generators when the minimal indices are those of a generic M — D − 1
+    and D with D = ⌈n·deg M / k⌉, Σ d_i = b_r = n·deg M — found without a rank profile,
+    with the reduced solution of ``X·M = rhs`` of degree ≤ D when there is one, and
+    whether it was sought (as :func:`_solve_on_pivots`); None when M is not generic so.
 
-    The guess: the leading monomials are the last k columns δ^D·e_j (j ≥ m − k), so the
-    unknowns P are all the other columns, and ``T_D[:, P]`` is square (m·(D + 1) − k =
-    n·(D + deg M + 1)).  Certificate: its exact solve succeeds only when it is
-    nonsingular, so rank T_D ≥ |P| and dim V_D ≤ k; the k solutions are kernel vectors
-    with distinct leading monomials (every column of P is below every generator), so
-    they span V_D and its leading monomials are exactly those k, all of degree D.  A
-    Popov row of degree d_i ≤ D adds the D − d_i + 1 leading monomials δ^(d_i … D)·e_(π_i),
-    so every Popov row has degree D and is the reduced echelon vector of V_D it leads —
-    the solution found (the rank, hence k = m − rank M, is exact).  Saves the modular rank
-    profiles (4×2 of degree 16: 0.3 of 2.7 ms); a wrong guess costs a determinant modulo
-    a prime (:func:`~uio_ring.ring._kernel_lead.lead_solve` with ``guessed`` refuses a
-    square system singular there).  The leading monomials are not always the last columns: a 5×3 of degree 48
-    with zero leading coefficients has them at positions 2 and 4."""
-    generators, X, sought = _solve_on_pivots(coeffs, m, n, D, list(range(m * (D + 1) - k)), rhs, guessed=True)
+    The guess (:func:`_generic_leading`): the leading monomials Λ that a generic M gives
+    by counting dimensions, so the unknowns P are all the other columns of ``T_D``, and
+    ``T_D[:, P]`` is square.  Certificate: its exact solve succeeds only when it is
+    nonsingular, so rank T_D = |P| and dim V_D = |Λ|.  The solution for each generator
+    c ∈ Λ (c − m ∉ Λ) is a kernel vector on P ∪ {c}, checked to have no monomial above c
+    (:func:`~uio_ring.ring._kernel_lead.lead_solve`), so it is led by c; with δ times those
+    of degree D − 1 they are |Λ| kernel vectors with distinct leading monomials, so they
+    span V_D and its leading monomials are exactly Λ.  The reduced echelon vector of V_D
+    led by a generator c is zero on Λ \\ {c}, so it is the (unique) solution found: the
+    Popov row of degree c // m (the rank, hence k = m − rank M, is exact).  Saves the
+    modular rank profiles (4×2 of degree 16: 0.3 of 2.7 ms; 6×1 of degree 16, minimal
+    indices 3, 3, 3, 3, 4: 0.62 → 0.5 ms); a wrong guess costs a determinant modulo a
+    prime (:func:`~uio_ring.ring._kernel_lead.lead_solve` with ``guessed`` refuses a
+    square system singular there).  The leading monomials are not always the generic
+    ones: a 5×3 of degree 48 with zero leading coefficients has them at positions 2 and
+    4, a 3×1 whose first entry has a lower degree at positions 0 and 2."""
+    leading = _generic_leading(m, n, coeffs.dm, D, k)
+    pivots = [c for c in range(m * (D + 1)) if c not in leading]
+    generators, X, sought = _solve_on_pivots(coeffs, m, n, D, pivots, rhs, guessed=True)
     if generators is None or len(generators) != k:
         return None
     return generators, X, sought
+
+
+def _generic_leading(m: int, n: int, dm: int, D: int, k: int) -> set[int]:
+    """The leading monomials (columns e·m + j of ``T_D``) of the left kernel of a generic
+    m×n M of degree dm and rank n, with D = ⌈n·dm / k⌉ (k = m − n): the kernel vectors of
+    degree ≤ e have dimension max(0, k·(e + 1) − n·dm), and each degree's new leading
+    monomials take its last positions, so s = k·D − n·dm generators have degree D − 1
+    (positions m − s … m − 1) and the other k − s degree D (positions m − k … m − s − 1).
+
+    >>> sorted(_generic_leading(4, 1, 16, 6, 3))    # minimal indices 5, 5, 6
+    [22, 23, 25, 26, 27]
+    >>> sorted(_generic_leading(4, 2, 16, 16, 2))   # 16 and 16: the last two columns
+    [66, 67]
+    """
+    s = k * D - n * dm
+    return {(D - 1) * m + j for j in range(m - s, m)} | {D * m + j for j in range(m - k, m)}
 
 
 def _solve_on_pivots(
