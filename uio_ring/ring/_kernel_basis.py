@@ -77,7 +77,7 @@ from uio_ring.ring._predicates import rank_raw
 from uio_ring.ring._reduced_crt import solve_reduced_crt, worthwhile
 
 __all__ = [
-    "KernelSolution", "kernel_and_solution", "popov_left_kernel", "solve_reduced", "ToeplitzCoefficients",
+    "KernelSolution", "generic_kernel_and_solution", "kernel_and_solution", "popov_left_kernel", "solve_reduced", "ToeplitzCoefficients",
     "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS",
 ]
 
@@ -337,7 +337,7 @@ def _popov_left_kernel(
     bound = ev.minor_degree_bound(a, m, n, r)
     D = min(-(-bound // k), d_cap)
     crt = 2 * k < m and r == n and worthwhile(n, dm)
-    if r == n and bound == n * dm and D == -(-bound // k) and not crt:
+    if _generic_guess_degree(bound, m, n, r, dm) is not None:  # then it is D
         generic = _generic_generators(coeffs, m, n, D, k, rhs)
         if generic is not None:
             generators, solution, sought = generic
@@ -378,6 +378,58 @@ def _popov_left_kernel(
             return None
         D = nxt
     return _kernel_rows(gens, m, D), X, refuted
+
+
+def _generic_guess_degree(bound: int, m: int, n: int, r: int, dm: int) -> int | None:
+    """The degree D = ⌈b_r / k⌉ of :func:`_generic_generators` for an m×n M of rank r and
+    degree dm whose r×r minors have the degree bound ``bound`` = b_r (k = m − r), or None
+    when the guess does not apply: it needs rank n and b_r = n·dm (otherwise the minimal
+    indices are not a generic M's), D within :data:`MAX_UNKNOWNS`, and not the case of
+    the block elimination modulo primes (:func:`~uio_ring.ring._reduced_crt.worthwhile`,
+    with 2k < m), which needs no square system.
+
+    >>> _generic_guess_degree(32, 4, 2, 2, 16), _generic_guess_degree(16, 4, 1, 1, 16)
+    (16, 6)
+    >>> _generic_guess_degree(30, 4, 2, 2, 16) is None    # b_r < n·dm: not generic
+    True
+    """
+    k = m - r
+    if r != n or k == 0 or bound != n * dm:
+        return None
+    D = -(-bound // k)
+    if D > MAX_UNKNOWNS // m - 1 or (2 * k < m and worthwhile(n, dm)):
+        return None
+    return D
+
+
+def generic_kernel_and_solution(
+    a: dn.Rows, m: int, n: int, rhs: dn.Rows, *, coeffs: ToeplitzCoefficients | None = None,
+    max_unknowns: int = MAX_UNKNOWNS,
+) -> KernelSolution | None:
+    """:func:`kernel_and_solution` by the generic guess alone (:func:`_generic_generators`),
+    for callers that try it before anything else: None, at the cost of at most one
+    Toeplitz system and one determinant modulo a prime, when it does not apply, when M
+    is not generic, or when X is not found (``rhs`` of degree above D + deg M), or when
+    ``T_D`` would have more than ``max_unknowns`` columns m·(D + 1).  A
+    certified guess has ``T_D[:, P]`` square and nonsingular, so ``X·M = W`` has its
+    reduced solution for every W within that degree: for W = I, M is left unimodular.
+    Precondition: shape m×n (not checked).
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix("[[d**2 + 1], [d**2 - d], [2*d**2 + 3]]")   # minimal indices 1, 1
+    >>> got = generic_kernel_and_solution(M._r, 3, 1, dn.identity(1))
+    >>> [dn.row_degree(r) for r in got.kernel], dn.matmul(got.solution, M._r, 1, 3, 1)
+    ([1, 1], [[1]])
+    """
+    coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
+    r = rank_raw(a, m, n)
+    D = _generic_guess_degree(ev.minor_degree_bound(a, m, n, r), m, n, r, coeffs.dm)
+    if D is None or m * (D + 1) > max_unknowns:
+        return None
+    got = _generic_generators(coeffs, m, n, D, m - r, rhs)
+    if got is None or got[1] is None:
+        return None
+    return KernelSolution(_kernel_rows(got[0], m, D), got[1])
 
 
 def _kernel_rows(gens: list[tuple[int, list[flint.fmpq]]], m: int, D: int) -> dn.Rows:

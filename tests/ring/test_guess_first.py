@@ -1,0 +1,93 @@
+"""Tall matrices of high degree try the generic guess of their kernel and left inverse
+first (``hermite.guess_first``): the capped elimination and the coprimality test of the
+minors are skipped when the guess is certified, and every result is the one the usual
+order gives (compared with the elimination, an independent path)."""
+
+from __future__ import annotations
+
+import importlib
+import random
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from uio_ring.ring import PolyMatrix, hermite, left_inverse
+from uio_ring.ring import _backend as bk
+from uio_ring.ring import _dense as dn
+from uio_ring.ring.errors import NotUnimodularError
+from uio_ring.ring.hermite import hermite_by_elimination
+
+# the module, not the function of the same name that the package exports
+hermite_module = importlib.import_module("uio_ring.ring.hermite")
+inverse_module = importlib.import_module("uio_ring.ring.inverse")
+
+
+def _dense(rng: random.Random, m: int, n: int, degree: int) -> PolyMatrix:
+    def entry() -> str:
+        coeffs = [rng.randint(-3, 3) for _ in range(degree)] + [rng.choice([-3, -2, -1, 1, 2, 3])]
+        return " + ".join(f"({c})*d**{e}" for e, c in enumerate(coeffs))
+
+    return PolyMatrix([[entry() for _ in range(n)] for _ in range(m)])
+
+
+def _forbid(monkeypatch, module, *names: str) -> list[str]:
+    called: list[str] = []
+    for name in names:
+        monkeypatch.setattr(module, name, lambda *a, _name=name, **k: called.append(_name))
+    return called
+
+
+@pytest.mark.parametrize(("m", "n", "degree"), [(3, 1, 16), (4, 1, 8), (4, 2, 8), (6, 1, 16), (5, 3, 8)])
+def test_a_dense_tall_matrix_skips_the_elimination(monkeypatch, m, n, degree):
+    """Dense, δ-degree ≥ 8: neither the capped elimination nor the coprimality test runs,
+    and H = [I; 0], U are the elimination's (U is unique once normalised)."""
+    M = _dense(random.Random(m * 100 + n * 10 + degree), m, n, degree)
+    want = hermite_by_elimination(M)
+    called = _forbid(monkeypatch, hermite_module, "_hermite_by_small_elimination", "coprime_maximal_minors")
+    got = hermite(M)
+    assert called == []
+    assert (got.H, got.U, got.rank, got.pivots) == (want.H, want.U, want.rank, want.pivots)
+    called = _forbid(monkeypatch, inverse_module, "_hermite_by_small_elimination")
+    X = left_inverse(M)
+    assert called == [] and X == want.U[:n, :]
+
+
+def test_a_structured_column_is_refused_and_takes_the_usual_order():
+    """Minimal indices 0, 8 instead of 4, 4: the guess is refused, the result is still
+    the elimination's."""
+    M = PolyMatrix("[[d**8 + 1], [d**8 + 2], [1]]")
+    assert hermite_module.guess_first(M)
+    want = hermite_by_elimination(M)
+    got = hermite(M)
+    assert (got.H, got.U) == (want.H, want.U)
+    assert sorted(dn.row_degree(r) for r in got.U._r[1:]) == [0, 8]
+    assert left_inverse(M) == want.U[:1, :]
+
+
+def test_a_common_factor_is_refused():
+    """M = M0·(δ + 1): the guessed system is singular, H has the pivot δ + 1, and
+    left_inverse names the obstruction."""
+    M0 = _dense(random.Random(2), 4, 1, 8)
+    M = PolyMatrix._new([[row[0] * bk.from_coeffs([1, 1])] for row in M0._r], 4, 1, "d")
+    got = hermite(M)
+    assert got.H == hermite_by_elimination(M).H and got.H[0, 0].degree() == 1
+    assert got.U @ M == got.H
+    with pytest.raises(NotUnimodularError):
+        left_inverse(M)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.sampled_from([(3, 1), (4, 1), (4, 2), (5, 2)]), st.integers(8, 12), st.integers(0, 10**6),
+       st.booleans())
+def test_the_guess_and_the_usual_order_agree(shape, degree, seed, sparse):
+    """Dense or with zero coefficients (some guesses refused): the same H and U with and
+    without the guess first."""
+    m, n = shape
+    rng = random.Random(seed)
+    M = _dense(rng, m, n, degree)
+    if sparse:
+        M = PolyMatrix._new([[x if rng.random() < 0.6 else bk.ZERO for x in row] for row in M._r], m, n, "d")
+    got = hermite(M)
+    want = hermite_by_elimination(M)
+    assert (got.H, got.U) == (want.H, want.U)
