@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from uio_ring.ring import PolyMatrix, hermite, left_inverse
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
+from uio_ring.ring._kernel_basis import generic_kernel_and_solution
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import hermite_by_elimination
 
@@ -53,16 +54,28 @@ def test_a_dense_tall_matrix_skips_the_elimination(monkeypatch, m, n, degree):
     assert called == [] and X == want.U[:n, :]
 
 
-def test_a_structured_column_is_refused_and_takes_the_usual_order():
-    """Minimal indices 0, 8 instead of 4, 4: the guess is refused, the result is still
-    the elimination's."""
-    M = PolyMatrix("[[d**8 + 1], [d**8 + 2], [1]]")
+def test_a_dense_column_with_other_leading_positions_is_refused():
+    """Dense, but its first entry has degree 15: minimal indices 8 and 8 led at
+    positions 0 and 2, not the generic 1 and 2.  The guess is refused and the result is
+    still the elimination's."""
+    rng = random.Random(7)
+    M = PolyMatrix._new(_dense(rng, 1, 1, 15)._r + _dense(rng, 2, 1, 16)._r, 3, 1, "d")
     assert hermite_module.guess_first(M)
+    assert generic_kernel_and_solution(M._r, 3, 1, dn.identity(1)) is None
     want = hermite_by_elimination(M)
     got = hermite(M)
     assert (got.H, got.U) == (want.H, want.U)
-    assert sorted(dn.row_degree(r) for r in got.U._r[1:]) == [0, 8]
+    assert [dn.leading_position(r) for r in got.U._r[1:]] == [(8, 0), (8, 2)]
     assert left_inverse(M) == want.U[:1, :]
+
+
+def test_sparse_entries_keep_the_usual_order(monkeypatch):
+    """Few nonzero coefficients: the elimination first (it stays small there), no guess."""
+    M = PolyMatrix("[[d**16 + 1], [d**16 + 2], [d**3]]")
+    assert not hermite_module.guess_first(M)
+    called = _forbid(monkeypatch, hermite_module, "generic_kernel_and_solution")
+    got = hermite(M)
+    assert called == [] and got.U @ M == got.H
 
 
 def test_a_common_factor_is_refused():

@@ -77,8 +77,8 @@ from uio_ring.ring._predicates import rank_raw
 from uio_ring.ring._reduced_crt import solve_reduced_crt, worthwhile
 
 __all__ = [
-    "KernelSolution", "generic_kernel_and_solution", "kernel_and_solution", "popov_left_kernel", "solve_reduced", "ToeplitzCoefficients",
-    "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS",
+    "KernelSolution", "generic_kernel_and_solution", "kernel_and_solution", "popov_left_kernel", "solve_reduced",
+    "ToeplitzCoefficients", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS",
 ]
 
 #: Largest Toeplitz system (number of unknowns m·(D + 1)) tried; beyond it the
@@ -337,7 +337,7 @@ def _popov_left_kernel(
     bound = ev.minor_degree_bound(a, m, n, r)
     D = min(-(-bound // k), d_cap)
     crt = 2 * k < m and r == n and worthwhile(n, dm)
-    if _generic_guess_degree(bound, m, n, r, dm) is not None:  # then it is D
+    if _generic_guess_degree(bound, m, n, r, dm) == D:
         generic = _generic_generators(coeffs, m, n, D, k, rhs)
         if generic is not None:
             generators, solution, sought = generic
