@@ -529,11 +529,12 @@ def _solution_rows(num: flint.fmpz_mat, den: flint.fmpz, unknowns: list[int], m:
     ``num[i, v] / den`` for ``unknowns[i] = e·m + j`` (zero at the other monomials)."""
     qden = flint.fmpq(den)
     pos = {c: i for i, c in enumerate(unknowns)}
+    ents = num.entries()  # row-major: one call, not one per entry
     out: dn.Rows = []
     for v in range(k):
         row = []
         for j in range(m):
-            cs = [num[pos[e * m + j], v] if (e * m + j) in pos else 0 for e in range(D + 1)]
+            cs = [ents[pos[e * m + j] * k + v] if (e * m + j) in pos else 0 for e in range(D + 1)]
             row.append(flint.fmpq_poly(cs) / qden if any(cs) else bk.ZERO)
         out.append(row)
     return out

@@ -203,12 +203,14 @@ def lead_solve(
         return None  # singular modulo the guard prime: the guess was wrong (or the prime unlucky)
     rhs = [[full[r * cols + c] for c in gens] for r in chosen]
     if extra is not None:
-        rhs = [row + [extra[r, v] for v in range(extra.ncols())] for row, r in zip(rhs, chosen, strict=True)]
+        w, ex = extra.ncols(), extra.entries()  # one call, not one per entry
+        rhs = [row + ex[r * w : r * w + w] for row, r in zip(rhs, chosen, strict=True)]
     width = k + (0 if extra is None else extra.ncols())
     try:
         snum, sden = solve_square(sq, flint.fmpz_mat(u, width, [x for row in rhs for x in row]), bits=bits).numer_denom()
     except ZeroDivisionError:  # square and singular: ``pivots`` was not a rank profile
         return None
+    ents = snum.entries()  # row-major, u × width
     solution = None
     if square:  # the solve of the whole system is exact: nothing to check
         if extra is not None:
@@ -224,24 +226,25 @@ def lead_solve(
             y = _columns(snum, k, width)
             if tp * y == extra * sden:
                 solution = (y, sden)
-    qden = flint.fmpq(sden)
+    zero, one = flint.fmpq(0), flint.fmpq(1)
     out = []
     for v, c in enumerate(gens):
-        vec = [flint.fmpq(0)] * cols
+        vec = [zero] * cols
         for i, pc in enumerate(pivots):
-            x = snum[i, v]
+            x = ents[i * width + v]
             if x != 0:
                 if pc > c:
                     return None  # the greatest monomial would not be the generator
-                vec[pc] = -flint.fmpq(x) / qden
-        vec[c] = flint.fmpq(1)
+                vec[pc] = flint.fmpq(-x, sden)
+        vec[c] = one
         out.append((c, vec))
     return LeadSolution(out, solution)
 
 
 def _columns(a: flint.fmpz_mat, start: int, stop: int) -> flint.fmpz_mat:
     """The columns start … stop − 1 of a, as a matrix."""
-    return flint.fmpz_mat(a.nrows(), stop - start, [a[i, j] for i in range(a.nrows()) for j in range(start, stop)])
+    w, ents = a.ncols(), a.entries()
+    return flint.fmpz_mat(a.nrows(), stop - start, [x for i in range(a.nrows()) for x in ents[i * w + start : i * w + stop]])
 
 
 def generators_by_crt(
