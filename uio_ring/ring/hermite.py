@@ -575,7 +575,9 @@ def guess_first(M: PolyMatrix) -> bool:
     False
     """
     m, n = M.shape
-    if m < n + 2:
+    # D ≥ n·dm / (m − n) with dm ≥ CAP_MIN_DEGREE: beyond the cap whatever the entries
+    # (a 10×8: no scan of its 80 entries, 1 % of its elimination)
+    if m < n + 2 or m * (CAP_MIN_DEGREE * n // (m - n) + 1) > GUESS_FIRST_MAX_UNKNOWNS:
         return False
     dm = dn.mat_degree(M._r)
     if dm < CAP_MIN_DEGREE:
