@@ -202,10 +202,9 @@ def hermite(M: PolyMatrix) -> HermiteResult:
         wide = _hermite_by_pivot_block(M)
         if wide is not None:
             return wide
-    if guess_first(M):
-        quick = generic_kernel_and_solution(M._r, m, n, dn.identity(n), max_unknowns=GUESS_FIRST_MAX_UNKNOWNS)
-        if quick is not None:
-            return _identity_on_top(M, quick)
+    quick = guessed_kernel_and_inverse(M)
+    if quick is not None:
+        return _identity_on_top(M, quick)
     few_rows = 0 < m < TOEPLITZ_MIN_ROWS
     if few_rows:
         # pairwise xgcd steps when U is unique (square, nonsingular: proved by M(0)), and
@@ -554,6 +553,22 @@ def _identity_on_top(M: PolyMatrix, both: KernelSolution) -> HermiteResult:
 #: unknowns m·(D + 1) (a 4×2 of degree 32: 132; 6×4 of degree 16: 198): beyond, the
 #: capped elimination is tried first, as it is cheap whenever it does not swell.
 GUESS_FIRST_MAX_UNKNOWNS = 256
+
+
+def guessed_kernel_and_inverse(M: PolyMatrix) -> KernelSolution | None:
+    """The Popov kernel of a tall M and its left inverse reduced modulo it, by the generic
+    guess alone (:func:`~uio_ring.ring._kernel_basis.generic_kernel_and_solution`), when
+    :func:`guess_first` says to try it first; None otherwise, or when the guess is refused.
+
+    >>> M = PolyMatrix([["(d + 1)**8"], ["(d - 1)**8"], ["d**8 + 3*d - 1"]])
+    >>> got = guessed_kernel_and_inverse(M)
+    >>> [dn.row_degree(r) for r in got.kernel], PolyMatrix._new(got.solution, 1, 3, "d") @ M
+    ([4, 4], PolyMatrix([[1]]))
+    """
+    if not guess_first(M):
+        return None
+    m, n = M.shape
+    return generic_kernel_and_solution(M._r, m, n, dn.identity(n), max_unknowns=GUESS_FIRST_MAX_UNKNOWNS)
 
 
 def guess_first(M: PolyMatrix) -> bool:

@@ -18,7 +18,6 @@ from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import (
     ToeplitzCoefficients,
-    generic_kernel_and_solution,
     kernel_and_solution,
     popov_left_kernel,
     solve_reduced,
@@ -29,11 +28,7 @@ from uio_ring.ring._predicates import (
     rank_raw,
 )
 from uio_ring.ring.errors import NotUnimodularError
-from uio_ring.ring.hermite import (
-    GUESS_FIRST_MAX_UNKNOWNS,
-    _hermite_by_small_elimination,
-    guess_first,
-)
+from uio_ring.ring.hermite import _hermite_by_small_elimination, guessed_kernel_and_inverse
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.smith import invariant_factors
 
@@ -80,9 +75,8 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     that basis divides the corresponding entry of X.  This keeps the δ-degree
     low (in an observer, degree is delay).  For square M it is the inverse.
 
-    Algorithm: a tall M of high degree (:func:`~uio_ring.ring.hermite.guess_first`) is
-    first tried by the generic guess of its Toeplitz systems
-    (:func:`~uio_ring.ring._kernel_basis.generic_kernel_and_solution`).  A tall M of full
+    Algorithm: a tall, dense M of high degree is first tried by the generic guess of its
+    Toeplitz systems (:func:`~uio_ring.ring.hermite.guessed_kernel_and_inverse`).  A tall M of full
     column rank is then tried by Euclidean elimination
     stopped as soon as its coefficients swell (:mod:`~uio_ring.ring.hermite`: cheap
     on columns of a unimodular matrix; X is then the top of the Hermite transform,
@@ -109,11 +103,9 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     M = require_matrix(M, "left_inverse")
     m, n = M.shape
     small = None
-    if guess_first(M):
-        # dense and of high degree: the generic guess before the elimination, which swells
-        quick = generic_kernel_and_solution(M._r, m, n, dn.identity(n), max_unknowns=GUESS_FIRST_MAX_UNKNOWNS)
-        if quick is not None and quick.solution is not None:
-            return PolyMatrix._new(quick.solution, n, m, M.var)
+    quick = guessed_kernel_and_inverse(M)  # dense and of high degree: before the elimination, which swells
+    if quick is not None and quick.solution is not None:
+        return PolyMatrix._new(quick.solution, n, m, M.var)
     if m > n > 0:
         # Elimination while its coefficients stay small: U·M = [I; 0] proves it, and
         # any other H proves that no left inverse exists (the errors are raised below).
