@@ -12,6 +12,7 @@ from uio_ring.ring import PolyMatrix, _kernel_basis, _minors_kernel, hermite
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._kernel_basis import kernel_and_solution, popov_left_kernel, solve_reduced
 from uio_ring.ring._minors_kernel import kernel_by_minors, solution_by_minors
+from uio_ring.ring.hermite import hermite_by_elimination
 from uio_ring.ring.kernel import left_kernel_by_elimination
 
 from .strategies import assert_popov, dense_matrices, matrices
@@ -97,3 +98,20 @@ def test_hermite_of_one_kernel_row_solves_no_toeplitz_system(monkeypatch, n, deg
     monkeypatch.undo()
     K, X = _by_toeplitz(M, PolyMatrix.identity(n))
     assert h.U._r == X + K
+
+
+def test_many_columns_take_the_minors_when_the_toeplitz_system_is_too_large(monkeypatch):
+    """A 6×5 whose kernel row has degree 200: 6·201 Toeplitz unknowns exceed the cap, so
+    the minors give K and X (before, K took 0.2 s of modular rank profiles and X was
+    refused); they equal the elimination's."""
+    rows = [[f"d**40 + {i + 1}" if j == i else "0" for j in range(5)] for i in range(5)] + [["1"] * 5]
+    M = PolyMatrix(rows)
+    I5 = PolyMatrix.identity(5)
+    called: list = []
+    monkeypatch.setattr(_kernel_basis, "_generator_degree_mod_p", lambda *a, **k: called.append(1))
+    got = kernel_and_solution(M._r, 6, 5, I5._r, min_rows=0)
+    assert called == [] and got is not None and got.solution is not None
+    want = hermite_by_elimination(M)
+    assert PolyMatrix._new(got.kernel, 1, 6, M.var) == left_kernel_by_elimination(M) == want.U[5:, :]
+    assert PolyMatrix._new(got.solution, 5, 6, M.var) == want.U[:5, :]
+    assert dn.row_degree(got.kernel[0]) == 200

@@ -268,7 +268,8 @@ def popov_left_kernel(
     """The Popov basis of the left kernel of the m×n rows ``a`` (rows sorted by
     pivot degree, then pivot position), or None when m < ``min_rows`` or the
     Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.  One kernel row ((n+1)×n
-    of rank n, n ≤ :data:`~uio_ring.ring._minors_kernel.MINORS_MAX_COLUMNS`): from the
+    of rank n, n ≤ :data:`~uio_ring.ring._minors_kernel.MINORS_MAX_COLUMNS`, or more
+    columns when the degree bound of that row is beyond the Toeplitz systems): from the
     maximal minors instead (:mod:`uio_ring.ring._minors_kernel`).
     Precondition: shape m×n; ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)``
     (not checked)."""
@@ -324,14 +325,17 @@ def _popov_left_kernel(
         return [], None, -1
     if r == 0:
         return dn.identity(m), None, -1
-    if m == n + 1 and r == n and n <= MINORS_MAX_COLUMNS:
-        # one kernel row: the maximal minors, and X by one inverse modulo det M_R
+    d_cap = MAX_UNKNOWNS // m - 1
+    if m == n + 1 and r == n and (n <= MINORS_MAX_COLUMNS or ev.minor_degree_bound(a, m, n, r) > d_cap):
+        # one kernel row: the maximal minors, and X by one inverse modulo det M_R — also
+        # for more columns when the row's degree bound is beyond the Toeplitz systems (a 9×8
+        # of degree 32 in the W-step of a 32-state check: bound 256, 9·257 unknowns; 11 s
+        # here, the elimination it fell back to ran for over 15 minutes)
         one = kernel_by_minors(a, n)
         if one is not None:
             return [one.row], solution_by_minors(a, n, one, rhs) if rhs and one.coprime else None, -1
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
     mi, dm = coeffs.mi, coeffs.dm
-    d_cap = MAX_UNKNOWNS // m - 1
     # Σ d_i = deg of the maximal minors of K ≤ b_r (they are those of a column
     # basis of M, divided by their gcd), so max d_i ≤ b_r and the mean is ≤ b_r / k.
     bound = ev.minor_degree_bound(a, m, n, r)
