@@ -1,7 +1,9 @@
-"""Tall matrices of high degree try the generic guess of their kernel and left inverse
-first (``hermite.guess_first``): the capped elimination and the coprimality test of the
-minors are skipped when the guess is certified, and every result is the one the usual
-order gives (compared with the elimination, an independent path)."""
+"""The order of the paths for tall matrices.  Dense ones of high degree try the generic
+guess of their kernel and left inverse first (``hermite.guess_first``): the capped
+elimination and the coprimality test of the minors are skipped when the guess is
+certified, and every result is the one the usual order gives (compared with the
+elimination, an independent path).  Once the capped elimination has given way, the
+Toeplitz systems get the larger cap ``SWELL_MAX_UNKNOWNS``."""
 
 from __future__ import annotations
 
@@ -15,7 +17,11 @@ from hypothesis import strategies as st
 from uio_ring.ring import PolyMatrix, hermite, left_inverse
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
-from uio_ring.ring._kernel_basis import generic_kernel_and_solution
+from uio_ring.ring._kernel_basis import (
+    SWELL_MAX_UNKNOWNS,
+    generic_kernel_and_solution,
+    kernel_and_solution,
+)
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import hermite_by_elimination
 
@@ -104,3 +110,31 @@ def test_the_guess_and_the_usual_order_agree(shape, degree, seed, sparse):
     got = hermite(M)
     want = hermite_by_elimination(M)
     assert (got.H, got.U) == (want.H, want.U)
+
+
+def test_the_toeplitz_cap_is_a_parameter():
+    """A 4×2 of degree 16: 68 unknowns. Refused under a cap of 50, solved under 100."""
+    M = _dense(random.Random(8), 4, 2, 16)
+    I2 = dn.identity(2)
+    assert kernel_and_solution(M._r, 4, 2, I2, min_rows=0, max_unknowns=50) is None
+    got = kernel_and_solution(M._r, 4, 2, I2, min_rows=0, max_unknowns=100)
+    assert got is not None and dn.matmul(got.solution, M._r, 2, 4, 2) == I2
+
+
+def test_hermite_and_left_inverse_take_the_larger_cap_once_the_elimination_swelled(monkeypatch):
+    """Past the capped elimination, with the minors coprime, the only alternative left is
+    an elimination that swells: the Toeplitz systems get SWELL_MAX_UNKNOWNS."""
+    M = _dense(random.Random(9), 4, 2, 16)
+    caps: list = []
+    real = kernel_and_solution
+
+    def spy(*a, **k):
+        caps.append(k.get("max_unknowns"))
+        return real(*a, **k)
+
+    for module in (hermite_module, inverse_module):
+        monkeypatch.setattr(module, "guessed_kernel_and_inverse", lambda M: None)
+        monkeypatch.setattr(module, "kernel_and_solution", spy)
+    want = hermite_by_elimination(M)
+    assert hermite(M).U == want.U and left_inverse(M) == want.U[:2, :]
+    assert caps == [SWELL_MAX_UNKNOWNS, SWELL_MAX_UNKNOWNS]

@@ -78,12 +78,17 @@ from uio_ring.ring._reduced_crt import solve_reduced_crt, worthwhile
 
 __all__ = [
     "KernelSolution", "generic_kernel_and_solution", "kernel_and_solution", "popov_left_kernel", "solve_reduced",
-    "ToeplitzCoefficients", "MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS",
+    "ToeplitzCoefficients", "MAX_UNKNOWNS", "SWELL_MAX_UNKNOWNS", "TOEPLITZ_MIN_ROWS",
 ]
 
 #: Largest Toeplitz system (number of unknowns m·(D + 1)) tried; beyond it the
 #: elimination path is used.
 MAX_UNKNOWNS = 1000
+#: The larger cap of a caller whose alternative is an elimination already seen to swell
+#: (Hermite's U and the left inverse once the capped elimination gave way, the minors
+#: proved coprime): a 10×8 of degree 32, 1290 unknowns, 6.9 s for K and X, where that
+#: elimination ran for over 10 minutes; 10×8 of degree 48, 1930 unknowns: 22 s.
+SWELL_MAX_UNKNOWNS = 2000
 #: Fewer rows than this: elimination (a handful of rows of high degree — the matrices
 #: of the observability algorithm, 3×2 of degree 127: elimination 1 ms, Toeplitz 4.7 s).
 TOEPLITZ_MIN_ROWS = 6
@@ -279,11 +284,12 @@ def popov_left_kernel(
 
 def kernel_and_solution(
     a: dn.Rows, m: int, n: int, rhs: dn.Rows, *, min_rows: int = TOEPLITZ_MIN_ROWS,
-    coeffs: ToeplitzCoefficients | None = None, tries: int | None = None,
+    coeffs: ToeplitzCoefficients | None = None, tries: int | None = None, max_unknowns: int = MAX_UNKNOWNS,
 ) -> KernelSolution | None:
     """The Popov basis K of the left kernel of the m×n rows ``a`` and the solution X of
     ``X·M = rhs`` reduced modulo K (:func:`popov_left_kernel` and :func:`solve_reduced`),
-    or None when K is (m < ``min_rows``, or its Toeplitz system too large).
+    or None when K is (m < ``min_rows``, or its Toeplitz system would have more than
+    ``max_unknowns`` unknowns; the later bounds of X keep :data:`MAX_UNKNOWNS`).
 
     Both are solutions on the same unknowns — the non-leading monomials, the pivot
     columns of ``T_D`` — so when X has degree ≤ D, the degree bound of K's generators,
@@ -302,7 +308,7 @@ def kernel_and_solution(
     (PolyMatrix([[d, -1, 0], [0, d, -1]]), PolyMatrix([[1, 0, 0]]))
     """
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
-    got = _popov_left_kernel(a, m, n, min_rows, coeffs, rhs)
+    got = _popov_left_kernel(a, m, n, min_rows, coeffs, rhs, max_unknowns)
     if got is None:
         return None
     K, X, refuted = got
@@ -312,7 +318,8 @@ def kernel_and_solution(
 
 
 def _popov_left_kernel(
-    a: dn.Rows, m: int, n: int, min_rows: int, coeffs: ToeplitzCoefficients | None, rhs: dn.Rows | None
+    a: dn.Rows, m: int, n: int, min_rows: int, coeffs: ToeplitzCoefficients | None, rhs: dn.Rows | None,
+    max_unknowns: int = MAX_UNKNOWNS,
 ) -> tuple[dn.Rows, dn.Rows | None, int] | None:
     """``(K, X, refuted)``: :func:`popov_left_kernel`, and when ``rhs`` is given the reduced
     solution X of degree ≤ D from the same square solve (D: the degree bound of K's
@@ -325,8 +332,8 @@ def _popov_left_kernel(
         return [], None, -1
     if r == 0:
         return dn.identity(m), None, -1
-    d_cap = MAX_UNKNOWNS // m - 1
-    if m == n + 1 and r == n and (n <= MINORS_MAX_COLUMNS or ev.minor_degree_bound(a, m, n, r) > d_cap):
+    toeplitz_cap = MAX_UNKNOWNS // m - 1  # the minors' choice keeps the default cap
+    if m == n + 1 and r == n and (n <= MINORS_MAX_COLUMNS or ev.minor_degree_bound(a, m, n, r) > toeplitz_cap):
         # one kernel row: the maximal minors, and X by one inverse modulo det M_R — also
         # for more columns when the row's degree bound is beyond the Toeplitz systems (a 9×8
         # of degree 32 in the W-step of a 32-state check: bound 256, 9·257 unknowns; 11 s
@@ -336,12 +343,13 @@ def _popov_left_kernel(
             return [one.row], solution_by_minors(a, n, one, rhs) if rhs and one.coprime else None, -1
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
     mi, dm = coeffs.mi, coeffs.dm
+    d_cap = max_unknowns // m - 1
     # Σ d_i = deg of the maximal minors of K ≤ b_r (they are those of a column
     # basis of M, divided by their gcd), so max d_i ≤ b_r and the mean is ≤ b_r / k.
     bound = ev.minor_degree_bound(a, m, n, r)
     D = min(-(-bound // k), d_cap)
     crt = 2 * k < m and r == n and worthwhile(n, dm)
-    if _generic_guess_degree(bound, m, n, r, dm) == D:
+    if _generic_guess_degree(bound, m, n, r, dm, max_unknowns) == D:
         generic = _generic_generators(coeffs, m, n, D, k, rhs)
         if generic is not None:
             generators, solution, sought = generic
@@ -384,11 +392,11 @@ def _popov_left_kernel(
     return _kernel_rows(gens, m, D), X, refuted
 
 
-def _generic_guess_degree(bound: int, m: int, n: int, r: int, dm: int) -> int | None:
+def _generic_guess_degree(bound: int, m: int, n: int, r: int, dm: int, max_unknowns: int = MAX_UNKNOWNS) -> int | None:
     """The degree D = ⌈b_r / k⌉ of :func:`_generic_generators` for an m×n M of rank r and
     degree dm whose r×r minors have the degree bound ``bound`` = b_r (k = m − r), or None
     when the guess does not apply: it needs rank n and b_r = n·dm (otherwise the minimal
-    indices are not a generic M's), D within :data:`MAX_UNKNOWNS`, and not the case of
+    indices are not a generic M's), at most ``max_unknowns`` unknowns m·(D + 1), and not the case of
     the block elimination modulo primes (:func:`~uio_ring.ring._reduced_crt.worthwhile`,
     with 2k < m), which needs no square system.
 
@@ -401,7 +409,7 @@ def _generic_guess_degree(bound: int, m: int, n: int, r: int, dm: int) -> int | 
     if r != n or k == 0 or bound != n * dm:
         return None
     D = -(-bound // k)
-    if D > MAX_UNKNOWNS // m - 1 or (2 * k < m and worthwhile(n, dm)):
+    if m * (D + 1) > max_unknowns or (2 * k < m and worthwhile(n, dm)):
         return None
     return D
 
@@ -427,8 +435,8 @@ def generic_kernel_and_solution(
     """
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
     r = rank_raw(a, m, n)
-    D = _generic_guess_degree(ev.minor_degree_bound(a, m, n, r), m, n, r, coeffs.dm)
-    if D is None or m * (D + 1) > max_unknowns:
+    D = _generic_guess_degree(ev.minor_degree_bound(a, m, n, r), m, n, r, coeffs.dm, max_unknowns)
+    if D is None:
         return None
     got = _generic_generators(coeffs, m, n, D, m - r, rhs)
     if got is None or got[1] is None:

@@ -32,6 +32,7 @@ from uio_ring.ring._echelon import (
 )
 from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_first, generic_hermite
 from uio_ring.ring._kernel_basis import (
+    SWELL_MAX_UNKNOWNS,
     TOEPLITZ_MIN_ROWS,
     KernelSolution,
     generic_kernel_and_solution,
@@ -529,7 +530,9 @@ def _hermite_of_dependent_rows(
             if got is not None:
                 return got
         return _hermite_by_weak_popov(M)
-    both = kernel_and_solution(a, m, n, dn.identity(n), min_rows=0)
+    # the minors are coprime and the capped elimination gave way (or was not worth it):
+    # the larger cap, as the elimination that is left swells
+    both = kernel_and_solution(a, m, n, dn.identity(n), min_rows=0, max_unknowns=SWELL_MAX_UNKNOWNS)
     if both is None or both.solution is None:
         return None
     return _identity_on_top(M, both)

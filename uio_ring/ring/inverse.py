@@ -17,6 +17,7 @@ from __future__ import annotations
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._echelon import reduce_transform, row_echelon
 from uio_ring.ring._kernel_basis import (
+    SWELL_MAX_UNKNOWNS,
     ToeplitzCoefficients,
     kernel_and_solution,
     popov_left_kernel,
@@ -120,7 +121,8 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         # proved coprime (the proof costs more than the usual first solve).
         coeffs = ToeplitzCoefficients.of(M._r, m, n)  # one conversion for both
         # any number of rows: the elimination has stopped on its cap (few rows: of high degree)
-        got = kernel_and_solution(M._r, m, n, dn.identity(n), coeffs=coeffs, min_rows=0, tries=2)
+        got = kernel_and_solution(M._r, m, n, dn.identity(n), coeffs=coeffs, min_rows=0, tries=2,
+                                  max_unknowns=SWELL_MAX_UNKNOWNS)
         if got is not None:
             X = got.solution
             if X is None and left_unimodular_proved(M._r, m, n):
