@@ -332,21 +332,20 @@ def _popov_left_kernel(
         return [], None, -1
     if r == 0:
         return dn.identity(m), None, -1
-    toeplitz_cap = MAX_UNKNOWNS // m - 1  # the minors' choice keeps the default cap
-    if m == n + 1 and r == n and (n <= MINORS_MAX_COLUMNS or ev.minor_degree_bound(a, m, n, r) > toeplitz_cap):
+    # Σ d_i = deg of the maximal minors of K ≤ b_r (they are those of a column
+    # basis of M, divided by their gcd), so max d_i ≤ b_r and the mean is ≤ b_r / k.
+    bound = ev.minor_degree_bound(a, m, n, r)
+    if m == n + 1 and r == n and (n <= MINORS_MAX_COLUMNS or bound > MAX_UNKNOWNS // m - 1):
         # one kernel row: the maximal minors, and X by one inverse modulo det M_R — also
-        # for more columns when the row's degree bound is beyond the Toeplitz systems (a 9×8
-        # of degree 32 in the W-step of a 32-state check: bound 256, 9·257 unknowns; 11 s
-        # here, the elimination it fell back to ran for over 15 minutes)
+        # for more columns when the row's degree bound is beyond the (default) Toeplitz cap
+        # (a 9×8 of degree 32 in the W-step of a 32-state check: bound 256, 9·257 unknowns;
+        # 6 s here, the elimination it fell back to ran for over 15 minutes)
         one = kernel_by_minors(a, n)
         if one is not None:
             return [one.row], solution_by_minors(a, n, one, rhs) if rhs and one.coprime else None, -1
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
     mi, dm = coeffs.mi, coeffs.dm
     d_cap = max_unknowns // m - 1
-    # Σ d_i = deg of the maximal minors of K ≤ b_r (they are those of a column
-    # basis of M, divided by their gcd), so max d_i ≤ b_r and the mean is ≤ b_r / k.
-    bound = ev.minor_degree_bound(a, m, n, r)
     D = min(-(-bound // k), d_cap)
     crt = 2 * k < m and r == n and worthwhile(n, dm)
     if _generic_guess_degree(bound, m, n, r, dm, max_unknowns) == D:
@@ -392,13 +391,16 @@ def _popov_left_kernel(
     return _kernel_rows(gens, m, D), X, refuted
 
 
-def _generic_guess_degree(bound: int, m: int, n: int, r: int, dm: int, max_unknowns: int = MAX_UNKNOWNS) -> int | None:
+def _generic_guess_degree(
+    bound: int, m: int, n: int, r: int, dm: int, max_unknowns: int = MAX_UNKNOWNS
+) -> int | None:
     """The degree D = ⌈b_r / k⌉ of :func:`_generic_generators` for an m×n M of rank r and
     degree dm whose r×r minors have the degree bound ``bound`` = b_r (k = m − r), or None
     when the guess does not apply: it needs rank n and b_r = n·dm (otherwise the minimal
-    indices are not a generic M's), at most ``max_unknowns`` unknowns m·(D + 1), and not the case of
-    the block elimination modulo primes (:func:`~uio_ring.ring._reduced_crt.worthwhile`,
-    with 2k < m), which needs no square system.
+    indices are not a generic M's), at most ``max_unknowns`` unknowns m·(D + 1), and not
+    the case of the block elimination modulo primes
+    (:func:`~uio_ring.ring._reduced_crt.worthwhile`, with 2k < m), which needs no square
+    system.
 
     >>> _generic_guess_degree(32, 4, 2, 2, 16), _generic_guess_degree(16, 4, 1, 1, 16)
     (16, 6)
