@@ -50,13 +50,14 @@ Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, 
       Popov basis has 168 bits (its total, 21 425 bits, is below its weak Popov one's).
 
     Expected below 1× (time, not size): ``hermite`` and ``left_inverse`` on the column
-    family, 0.2–0.3× (3×1 and 6×1 of degree 16: 0.3–0.6 ms against 0.1 ms).  SageMath's
+    family, 0.2–0.7× (3×1 and 6×1 of degree 16: 0.3–0.5 ms against 0.1–0.2 ms; by
+    instruction count, ``count_instructions.py``, 0.24–0.32×).  SageMath's
     ``hermite_form`` of a column is m − 1 extended gcds, its U left as they build it: its
     kernel rows are not a minimal basis (6×1 of degree 16: U of degree 31, the minimal
     indices are 3 and 4; degree 64: 127 against 13), and its left inverse is not reduced
     modulo one (degree 63 against 12).  Ours is the normalised U — the Popov basis of the
     kernel and X reduced modulo it, unique — which is a block-Toeplitz solve (97×97 for a
-    3×1 of degree 64) and costs more than those gcds.  The kernel itself is 1.4–6×
+    3×1 of degree 64) and costs more than those gcds.  The kernel itself is 1.4–7×
     faster than SageMath's ``minimal_kernel_basis`` on the same columns.
 
     Both libraries' results are verified
