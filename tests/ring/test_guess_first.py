@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from uio_ring.ring import PolyMatrix, hermite, left_inverse
+from uio_ring.ring import PolyMatrix, _kernel_basis, hermite, left_inverse
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._kernel_basis import (
@@ -60,19 +60,22 @@ def test_a_dense_tall_matrix_skips_the_elimination(monkeypatch, m, n, degree):
     assert called == [] and X == want.U[:n, :]
 
 
-def test_a_dense_column_with_other_leading_positions_is_refused():
+def test_a_dense_column_with_other_leading_positions_is_refused(monkeypatch):
     """Dense, but its first entry has degree 15: minimal indices 8 and 8 led at
-    positions 0 and 2, not the generic 1 and 2.  The guess is refused and the result is
-    still the elimination's."""
+    positions 0 and 2, not the generic 1 and 2.  The guess is refused — tried once, not
+    again on the later path — and the result is still the elimination's."""
     rng = random.Random(7)
     M = PolyMatrix._new(_dense(rng, 1, 1, 15)._r + _dense(rng, 2, 1, 16)._r, 3, 1, "d")
     assert hermite_module.guess_first(M)
     assert generic_kernel_and_solution(M._r, 3, 1, dn.identity(1)) is None
     want = hermite_by_elimination(M)
+    guesses: list = []
+    real = _kernel_basis._generic_generators
+    monkeypatch.setattr(_kernel_basis, "_generic_generators", lambda *a, **k: guesses.append(1) or real(*a, **k))
     got = hermite(M)
-    assert (got.H, got.U) == (want.H, want.U)
+    assert (got.H, got.U) == (want.H, want.U) and len(guesses) == 1
     assert [dn.leading_position(r) for r in got.U._r[1:]] == [(8, 0), (8, 2)]
-    assert left_inverse(M) == want.U[:1, :]
+    assert left_inverse(M) == want.U[:1, :] and len(guesses) == 2
 
 
 def test_sparse_entries_keep_the_usual_order(monkeypatch):

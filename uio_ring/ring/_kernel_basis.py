@@ -285,11 +285,14 @@ def popov_left_kernel(
 def kernel_and_solution(
     a: dn.Rows, m: int, n: int, rhs: dn.Rows, *, min_rows: int = TOEPLITZ_MIN_ROWS,
     coeffs: ToeplitzCoefficients | None = None, tries: int | None = None, max_unknowns: int = MAX_UNKNOWNS,
+    guess: bool = True,
 ) -> KernelSolution | None:
     """The Popov basis K of the left kernel of the m×n rows ``a`` and the solution X of
     ``X·M = rhs`` reduced modulo K (:func:`popov_left_kernel` and :func:`solve_reduced`),
     or None when K is (m < ``min_rows``, or its Toeplitz system would have more than
     ``max_unknowns`` unknowns; the later bounds of X keep :data:`MAX_UNKNOWNS`).
+    ``guess=False``: without the generic guess (:func:`_generic_generators`), for a caller
+    whose :func:`generic_kernel_and_solution` has just refused it.
 
     Both are solutions on the same unknowns — the non-leading monomials, the pivot
     columns of ``T_D`` — so when X has degree ≤ D, the degree bound of K's generators,
@@ -308,7 +311,7 @@ def kernel_and_solution(
     (PolyMatrix([[d, -1, 0], [0, d, -1]]), PolyMatrix([[1, 0, 0]]))
     """
     coeffs = coeffs or ToeplitzCoefficients.of(a, m, n)
-    got = _popov_left_kernel(a, m, n, min_rows, coeffs, rhs, max_unknowns)
+    got = _popov_left_kernel(a, m, n, min_rows, coeffs, rhs, max_unknowns, guess)
     if got is None:
         return None
     K, X, refuted = got
@@ -319,7 +322,7 @@ def kernel_and_solution(
 
 def _popov_left_kernel(
     a: dn.Rows, m: int, n: int, min_rows: int, coeffs: ToeplitzCoefficients | None, rhs: dn.Rows | None,
-    max_unknowns: int = MAX_UNKNOWNS,
+    max_unknowns: int = MAX_UNKNOWNS, guess: bool = True,
 ) -> tuple[dn.Rows, dn.Rows | None, int] | None:
     """``(K, X, refuted)``: :func:`popov_left_kernel`, and when ``rhs`` is given the reduced
     solution X of degree ≤ D from the same square solve (D: the degree bound of K's
@@ -348,7 +351,7 @@ def _popov_left_kernel(
     d_cap = max_unknowns // m - 1
     D = min(-(-bound // k), d_cap)
     crt = 2 * k < m and r == n and worthwhile(n, dm)
-    if _generic_guess_degree(bound, m, n, r, dm, max_unknowns) == D:
+    if guess and _generic_guess_degree(bound, m, n, r, dm, max_unknowns) == D:
         generic = _generic_generators(coeffs, m, n, D, k, rhs)
         if generic is not None:
             generators, solution, sought = generic

@@ -228,7 +228,7 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                     return small
     if m > 0:
         fast = _hermite_of_dependent_rows(M, singular=singular, min_rows=0 if few_rows else None,
-                                    eliminate_first=not few_rows)
+                                          eliminate_first=not few_rows, guess=not guess_first(M))
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
@@ -476,7 +476,8 @@ PAIRWISE_MAX_ROWS = 5
 
 
 def _hermite_of_dependent_rows(
-    M: PolyMatrix, *, min_rows: int | None = None, singular: bool = False, eliminate_first: bool = True
+    M: PolyMatrix, *, min_rows: int | None = None, singular: bool = False, eliminate_first: bool = True,
+    guess: bool = True,
 ) -> HermiteResult | None:
     """Hermite form with U for ``rank M < rows`` (tall or rank-deficient M), or None.
 
@@ -488,7 +489,8 @@ def _hermite_of_dependent_rows(
     (``= Y·K``) and ``K0 = Z·K`` with Z unimodular, so ``U = [[I, Y·Z⁻¹], [0, Z⁻¹]]·U0``.
     ``X·M = I`` and ``K·M = 0`` are checked exactly inside; None when a Toeplitz system
     would be too large.  (Tall M first try the elimination under the tight cap, unless
-    ``eliminate_first=False``: the caller has seen it stop already.)
+    ``eliminate_first=False``: the caller has seen it stop already; ``guess=False``: the
+    caller has seen the generic guess refused, :func:`guessed_kernel_and_inverse`.)
 
     Otherwise H has pivots of positive degree: the Euclidean elimination with transform
     (δ-degree ≤ ``ELIMINATION_MAX_DEGREE``, under the guard ``FULL_ELIMINATION_BITS``),
@@ -532,7 +534,8 @@ def _hermite_of_dependent_rows(
         return _hermite_by_weak_popov(M)
     # the minors are coprime and the capped elimination gave way (or was not worth it):
     # the larger cap, as the elimination that is left swells
-    both = kernel_and_solution(a, m, n, dn.identity(n), min_rows=0, max_unknowns=SWELL_MAX_UNKNOWNS)
+    both = kernel_and_solution(a, m, n, dn.identity(n), min_rows=0, max_unknowns=SWELL_MAX_UNKNOWNS,
+                               guess=guess)
     if both is None or both.solution is None:
         return None
     return _identity_on_top(M, both)

@@ -23,13 +23,13 @@ from uio_ring.ring._kernel_basis import (
     popov_left_kernel,
     solve_reduced,
 )
-from uio_ring.ring._predicates import (
-    is_unimodular_raw,
-    left_unimodular_proved,
-    rank_raw,
-)
+from uio_ring.ring._predicates import is_unimodular_raw, left_unimodular_proved, rank_raw
 from uio_ring.ring.errors import NotUnimodularError
-from uio_ring.ring.hermite import _hermite_by_small_elimination, guessed_kernel_and_inverse
+from uio_ring.ring.hermite import (
+    _hermite_by_small_elimination,
+    guess_first,
+    guessed_kernel_and_inverse,
+)
 from uio_ring.ring.matrix import PolyMatrix, require_matrix
 from uio_ring.ring.smith import invariant_factors
 
@@ -77,8 +77,8 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     low (in an observer, degree is delay).  For square M it is the inverse.
 
     Algorithm: a tall, dense M of high degree is first tried by the generic guess of its
-    Toeplitz systems (:func:`~uio_ring.ring.hermite.guessed_kernel_and_inverse`).  A tall M of full
-    column rank is then tried by Euclidean elimination
+    Toeplitz systems (:func:`~uio_ring.ring.hermite.guessed_kernel_and_inverse`).  A tall
+    M of full column rank is then tried by Euclidean elimination
     stopped as soon as its coefficients swell (:mod:`~uio_ring.ring.hermite`: cheap
     on columns of a unimodular matrix; X is then the top of the Hermite transform,
     reduced modulo the Popov kernel taken from its own kernel rows).  Otherwise, or
@@ -122,7 +122,7 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         coeffs = ToeplitzCoefficients.of(M._r, m, n)  # one conversion for both
         # any number of rows: the elimination has stopped on its cap (few rows: of high degree)
         got = kernel_and_solution(M._r, m, n, dn.identity(n), coeffs=coeffs, min_rows=0, tries=2,
-                                  max_unknowns=SWELL_MAX_UNKNOWNS)
+                                  max_unknowns=SWELL_MAX_UNKNOWNS, guess=not guess_first(M))
         if got is not None:
             X = got.solution
             if X is None and left_unimodular_proved(M._r, m, n):
