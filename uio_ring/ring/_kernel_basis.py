@@ -150,16 +150,18 @@ def _toeplitz_entries(mi: IntCoeffs, m: int, n: int, dm: int, D: int, mod: int |
     cols = m * (D + 1)
     rows = n * (D + dm + 1)
     out = [0] * (rows * cols)
+    # T[(e + s, col), (e, j)] = c for e = 0 … D: the flat index moves by n·cols + m
+    # with e, so one strided slice writes a coefficient's D + 1 places
+    step = n * cols + m
     for j in range(m):
         for col in range(n):
             cs = mi[j][col]
             if mod is not None:
                 cs = [c % mod for c in cs]
             for s, c in enumerate(cs):
-                if not c:
-                    continue
-                for e in range(D + 1):
-                    out[((e + s) * n + col) * cols + e * m + j] = c
+                if c:
+                    start = (s * n + col) * cols + j
+                    out[start : start + step * (D + 1) : step] = [c] * (D + 1)
     return out
 
 
