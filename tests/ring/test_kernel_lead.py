@@ -313,3 +313,26 @@ def test_kernel_falls_back_when_the_crt_generators_give_up(monkeypatch):
     assert popov_left_kernel(M._r, *M.shape) == want
     monkeypatch.setattr(_kernel_basis, "generators_by_crt", lambda *a, **k: None)
     assert popov_left_kernel(M._r, *M.shape) == want
+
+
+@settings(max_examples=40, deadline=None)
+@given(m=st.integers(1, 4), n=st.integers(1, 3), dm=st.integers(0, 4), D=st.integers(0, 5),
+       data=st.data(), mod=st.sampled_from([None, 7]))
+def test_toeplitz_entries_match_their_definition(m, n, dm, D, data, mod):
+    """``T[(t, l), (e, j)]`` = coefficient t − e of M[j][l] (reduced modulo ``mod``), zero
+    elsewhere: T·vec(x) = vec(x·M).  The strided writes must put every coefficient in
+    its D + 1 places and nothing anywhere else."""
+    coeff = st.integers(-9, 9)
+    mi = [[data.draw(st.lists(coeff, min_size=0, max_size=dm + 1)) for _ in range(n)] for _ in range(m)]
+    got = _toeplitz_entries(mi, m, n, dm, D, mod)
+    rows, cols = n * (D + dm + 1), m * (D + 1)
+    assert len(got) == rows * cols
+    for t in range(D + dm + 1):
+        for l in range(n):
+            for e in range(D + 1):
+                for j in range(m):
+                    cs = mi[j][l]
+                    want = cs[t - e] if 0 <= t - e < len(cs) else 0
+                    if mod is not None:
+                        want %= mod
+                    assert got[(t * n + l) * cols + e * m + j] == want
