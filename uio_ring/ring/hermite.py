@@ -203,7 +203,8 @@ def hermite(M: PolyMatrix) -> HermiteResult:
         wide = _hermite_by_pivot_block(M)
         if wide is not None:
             return wide
-    quick = guessed_kernel_and_inverse(M)
+    guessed = guess_first(M)
+    quick = guessed_kernel_and_inverse(M) if guessed else None
     if quick is not None:
         return _identity_on_top(M, quick)
     few_rows = 0 < m < TOEPLITZ_MIN_ROWS
@@ -228,7 +229,7 @@ def hermite(M: PolyMatrix) -> HermiteResult:
                     return small
     if m > 0:
         fast = _hermite_of_dependent_rows(M, singular=singular, min_rows=0 if few_rows else None,
-                                          eliminate_first=not few_rows, guess=not guess_first(M))
+                                          eliminate_first=not few_rows, guess=not guessed)
         if fast is not None:
             return fast
     return hermite_by_elimination(M)
@@ -563,16 +564,15 @@ GUESS_FIRST_MAX_UNKNOWNS = 256
 
 def guessed_kernel_and_inverse(M: PolyMatrix) -> KernelSolution | None:
     """The Popov kernel of a tall M and its left inverse reduced modulo it, by the generic
-    guess alone (:func:`~uio_ring.ring._kernel_basis.generic_kernel_and_solution`), when
-    :func:`guess_first` says to try it first; None otherwise, or when the guess is refused.
+    guess alone (:func:`~uio_ring.ring._kernel_basis.generic_kernel_and_solution`), or None
+    when the guess is refused.  For an M where :func:`guess_first` holds (its callers ask
+    it once, and pass on whether the guess was tried); the solution is never None.
 
     >>> M = PolyMatrix([["(d + 1)**8"], ["(d - 1)**8"], ["d**8 + 3*d - 1"]])
     >>> got = guessed_kernel_and_inverse(M)
     >>> [dn.row_degree(r) for r in got.kernel], PolyMatrix._new(got.solution, 1, 3, "d") @ M
     ([4, 4], PolyMatrix([[1]]))
     """
-    if not guess_first(M):
-        return None
     m, n = M.shape
     return generic_kernel_and_solution(M._r, m, n, dn.identity(n), max_unknowns=GUESS_FIRST_MAX_UNKNOWNS)
 

@@ -104,8 +104,9 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
     M = require_matrix(M, "left_inverse")
     m, n = M.shape
     small = None
-    quick = guessed_kernel_and_inverse(M)  # dense and of high degree: before the elimination, which swells
-    if quick is not None and quick.solution is not None:
+    guessed = guess_first(M)  # dense and of high degree: the guess before the elimination, which swells
+    quick = guessed_kernel_and_inverse(M) if guessed else None
+    if quick is not None and quick.solution is not None:  # never None there; narrows the type
         return PolyMatrix._new(quick.solution, n, m, M.var)
     if m > n > 0:
         # Elimination while its coefficients stay small: U·M = [I; 0] proves it, and
@@ -122,7 +123,7 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         coeffs = ToeplitzCoefficients.of(M._r, m, n)  # one conversion for both
         # any number of rows: the elimination has stopped on its cap (few rows: of high degree)
         got = kernel_and_solution(M._r, m, n, dn.identity(n), coeffs=coeffs, min_rows=0, tries=2,
-                                  max_unknowns=SWELL_MAX_UNKNOWNS, guess=not guess_first(M))
+                                  max_unknowns=SWELL_MAX_UNKNOWNS, guess=not guessed)
         if got is not None:
             X = got.solution
             if X is None and left_unimodular_proved(M._r, m, n):
