@@ -3,7 +3,8 @@ guess of their kernel and left inverse first (``hermite.guess_first``): the capp
 elimination and the coprimality test of the minors are skipped when the guess is
 certified, and every result is the one the usual order gives (compared with the
 elimination, an independent path).  Once the capped elimination has given way, the
-Toeplitz systems get the larger cap ``SWELL_MAX_UNKNOWNS``."""
+Toeplitz systems get the larger cap ``SWELL_MAX_UNKNOWNS`` (hermite, left_inverse, and
+left_kernel beyond the usual cap ``MAX_UNKNOWNS``)."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from uio_ring.ring import PolyMatrix, _kernel_basis, hermite, left_inverse
+from uio_ring.ring import PolyMatrix, _kernel_basis, hermite, left_inverse, left_kernel
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
 from uio_ring.ring._kernel_basis import (
@@ -28,6 +29,7 @@ from uio_ring.ring.hermite import hermite_by_elimination
 # the module, not the function of the same name that the package exports
 hermite_module = importlib.import_module("uio_ring.ring.hermite")
 inverse_module = importlib.import_module("uio_ring.ring.inverse")
+kernel_module = importlib.import_module("uio_ring.ring.kernel")
 
 
 def _dense(rng: random.Random, m: int, n: int, degree: int) -> PolyMatrix:
@@ -141,3 +143,71 @@ def test_hermite_and_left_inverse_take_the_larger_cap_once_the_elimination_swell
     want = hermite_by_elimination(M)
     assert hermite(M).U == want.U and left_inverse(M) == want.U[:2, :]
     assert caps == [SWELL_MAX_UNKNOWNS, SWELL_MAX_UNKNOWNS]
+
+
+def test_the_solution_keeps_the_cap_of_its_kernel(monkeypatch):
+    """X sought after K (rank n, the block elimination modulo primes gives K alone: a 6×4
+    of degree 2) is sought under the same cap as K: a caller's larger cap reaches it."""
+    M = _dense(random.Random(10), 6, 4, 2)
+    caps: list = []
+    real = _kernel_basis.solve_reduced
+
+    def spy(*a, **k):
+        caps.append(k.get("max_unknowns"))
+        return real(*a, **k)
+
+    monkeypatch.setattr(_kernel_basis, "solve_reduced", spy)
+    I4 = dn.identity(4)
+    got = kernel_and_solution(M._r, 6, 4, I4, min_rows=0, max_unknowns=1234)
+    assert caps == [1234]
+    assert got is not None and dn.matmul(got.solution, M._r, 4, 6, 4) == I4
+    assert got.kernel == hermite_by_elimination(M).U._r[4:]
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_left_kernel_beyond_the_usual_cap_after_the_elimination_swelled(monkeypatch, seed):
+    """Beyond the usual Toeplitz cap (simulated: the default call refuses), a dense 6×4 of
+    degree 4 swells past the elimination's cap, and the Toeplitz systems under
+    SWELL_MAX_UNKNOWNS give the Popov kernel — the elimination's (unique)."""
+    M = _dense(random.Random(seed), 6, 4, 4)
+    want = kernel_module.left_kernel_by_elimination(M)
+    calls: list = []
+    real_kernel, real_elimination = _kernel_basis.popov_left_kernel, kernel_module._kernel_by_elimination
+
+    def refusing(a, m, n, **k):
+        calls.append(("toeplitz", k.get("max_unknowns")))
+        return real_kernel(a, m, n, **k) if "max_unknowns" in k else None
+
+    def eliminating(M, bit_cap):
+        got = real_elimination(M, bit_cap)
+        calls.append(("elimination", bit_cap is not None, got is not None))
+        return got
+
+    monkeypatch.setattr(kernel_module, "popov_left_kernel", refusing)
+    monkeypatch.setattr(kernel_module, "_kernel_by_elimination", eliminating)
+    K = left_kernel(M)
+    assert calls == [("toeplitz", None), ("elimination", True, False), ("toeplitz", SWELL_MAX_UNKNOWNS)]
+    assert K == want and (K @ M).is_zero()
+
+
+def test_left_kernel_beyond_the_usual_cap_without_swelling(monkeypatch):
+    """The first columns of a unimodular matrix: the capped elimination stays small and
+    gives the Popov kernel itself; no Toeplitz system under the larger cap."""
+    rng = random.Random(3)
+    U = PolyMatrix.identity(7)
+    for _ in range(12):  # elementary row operations: row i += (a + b·δ)·row j
+        i, j = rng.sample(range(7), 2)
+        entry = f"{rng.randint(-2, 2)} + {rng.randint(-2, 2)}*d"
+        U = PolyMatrix([[entry if (r, c) == (i, j) else int(r == c) for c in range(7)] for r in range(7)]) @ U
+    M = U[:, :4]
+    calls: list = []
+    real_kernel = _kernel_basis.popov_left_kernel
+
+    def refusing(a, m, n, **k):
+        calls.append(k.get("max_unknowns"))
+        return real_kernel(a, m, n, **k) if "max_unknowns" in k else None
+
+    monkeypatch.setattr(kernel_module, "popov_left_kernel", refusing)
+    K = left_kernel(M)
+    assert calls == [None]
+    assert K == kernel_module.left_kernel_by_elimination(M) and K.rows == 3

@@ -86,9 +86,12 @@ __all__ = [
 MAX_UNKNOWNS = 1000
 #: The larger cap of a caller whose alternative is an elimination already seen to swell
 #: (Hermite's U and the left inverse once the capped elimination gave way, the minors
-#: proved coprime): a 10×8 of degree 32, 1290 unknowns, 6.9 s for K and X, where that
-#: elimination ran for over 10 minutes; 10×8 of degree 48, 1930 unknowns: 22 s.
-SWELL_MAX_UNKNOWNS = 2000
+#: proved coprime; the left kernel beyond :data:`MAX_UNKNOWNS`): a 10×8 of degree 32,
+#: 1290 unknowns, 6.9 s for K and X, where that elimination ran for over 10 minutes;
+#: 10×8 of degree 48, 1930 unknowns: 22 s; a dense 18×16 of degree 16, 2322 unknowns:
+#: 39 s (K alone 21 s), where the elimination ran for over five minutes; 18×16 of degree
+#: 20, 2898 unknowns: 213 s and 0.9 GB.
+SWELL_MAX_UNKNOWNS = 3000
 #: Fewer rows than this: elimination (a handful of rows of high degree — the matrices
 #: of the observability algorithm, 3×2 of degree 127: elimination 1 ms, Toeplitz 4.7 s).
 TOEPLITZ_MIN_ROWS = 6
@@ -270,17 +273,18 @@ class KernelSolution:
 
 
 def popov_left_kernel(
-    a: dn.Rows, m: int, n: int, *, min_rows: int = TOEPLITZ_MIN_ROWS, coeffs: ToeplitzCoefficients | None = None
+    a: dn.Rows, m: int, n: int, *, min_rows: int = TOEPLITZ_MIN_ROWS, coeffs: ToeplitzCoefficients | None = None,
+    max_unknowns: int = MAX_UNKNOWNS,
 ) -> dn.Rows | None:
     """The Popov basis of the left kernel of the m×n rows ``a`` (rows sorted by
     pivot degree, then pivot position), or None when m < ``min_rows`` or the
-    Toeplitz system would be larger than :data:`MAX_UNKNOWNS`.  One kernel row ((n+1)×n
+    Toeplitz system would have more than ``max_unknowns`` unknowns m·(D + 1).  One kernel row ((n+1)×n
     of rank n, n ≤ :data:`~uio_ring.ring._minors_kernel.MINORS_MAX_COLUMNS`, or more
     columns when the degree bound of that row is beyond the Toeplitz systems): from the
     maximal minors instead (:mod:`uio_ring.ring._minors_kernel`).
     Precondition: shape m×n; ``coeffs``, when given, is ``ToeplitzCoefficients.of(a, m, n)``
     (not checked)."""
-    got = _popov_left_kernel(a, m, n, min_rows, coeffs, None)
+    got = _popov_left_kernel(a, m, n, min_rows, coeffs, None, max_unknowns)
     return None if got is None else got[0]
 
 
@@ -292,7 +296,7 @@ def kernel_and_solution(
     """The Popov basis K of the left kernel of the m×n rows ``a`` and the solution X of
     ``X·M = rhs`` reduced modulo K (:func:`popov_left_kernel` and :func:`solve_reduced`),
     or None when K is (m < ``min_rows``, or its Toeplitz system would have more than
-    ``max_unknowns`` unknowns; the later bounds of X keep :data:`MAX_UNKNOWNS`).
+    ``max_unknowns`` unknowns; X's own systems have the same cap).
     ``guess=False``: without the generic guess (:func:`_generic_generators`), for a caller
     whose :func:`generic_kernel_and_solution` has just refused it.
 
@@ -318,7 +322,7 @@ def kernel_and_solution(
         return None
     K, X, refuted = got
     if X is None and rhs:
-        X = solve_reduced(a, m, n, K, rhs, tries=tries, coeffs=coeffs, refuted=refuted)
+        X = solve_reduced(a, m, n, K, rhs, tries=tries, coeffs=coeffs, refuted=refuted, max_unknowns=max_unknowns)
     return KernelSolution(K, X if rhs else [])
 
 
@@ -562,10 +566,12 @@ def _solution_rows(num: flint.fmpz_mat, den: flint.fmpz, unknowns: list[int], m:
 def solve_reduced(
     a: dn.Rows, m: int, n: int, kernel: dn.Rows, rhs: dn.Rows, *, tries: int | None = None,
     coeffs: ToeplitzCoefficients | None = None, multimodular: bool = True, refuted: int = -1,
+    max_unknowns: int = MAX_UNKNOWNS,
 ) -> dn.Rows | None:
     """The X with ``X·M = rhs`` reduced modulo the Popov kernel basis ``kernel`` (entries
     in a pivot column of lower degree than that pivot), from one square block-Toeplitz
-    system; None when that system is too large or the degree bound must grow beyond it.
+    system; None when that system is too large (more than ``max_unknowns`` unknowns
+    m·(D + 1)) or the degree bound must grow beyond it.
 
     The unknowns are the monomials that are not leading monomials of the kernel
     (δ^e·e_j with e < d_i when j = π_i): for every degree bound D these are the
@@ -597,7 +603,7 @@ def solve_reduced(
     lead = {j: d for d, j in (dn.leading_position(row) for row in kernel)}
     hdeg = max(dn.mat_degree(rhs), 0)
     D = max([hdeg - dm, *lead.values(), 0])
-    d_cap = MAX_UNKNOWNS // m - 1
+    d_cap = max_unknowns // m - 1
     if refuted >= D:
         if tries is not None:
             tries -= 1

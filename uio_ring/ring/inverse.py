@@ -127,7 +127,8 @@ def left_inverse(M: PolyMatrix) -> PolyMatrix:
         if got is not None:
             X = got.solution
             if X is None and left_unimodular_proved(M._r, m, n):
-                X = solve_reduced(M._r, m, n, got.kernel, dn.identity(n), coeffs=coeffs)
+                X = solve_reduced(M._r, m, n, got.kernel, dn.identity(n), coeffs=coeffs,
+                                  max_unknowns=SWELL_MAX_UNKNOWNS)
             if X is not None:
                 return PolyMatrix._new(X, n, m, M.var)
             # not proved left unimodular: the invariant factors decide before the
