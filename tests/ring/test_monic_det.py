@@ -124,3 +124,22 @@ def test_row_module_membership_equals_reduction_to_zero(n, f, data):
     if data.draw(st.booleans()):
         x = x @ PolyMatrix.diag(*([f] * n)) if data.draw(st.booleans()) else x @ W
     assert in_row_module(list(x._r[0]), kd) == (extend_row_basis(W, x).rows.rows == 0)
+
+
+def test_the_primes_are_told_to_the_progress_note():
+    """kernel_det says which prime it is at, after the step's note, and restores that note."""
+    from uio_ring import _progress
+    from uio_ring.ring._monic_det import _MAX_PRIMES
+
+    z = [[flint.fmpz_poly([1, 2, 3]), flint.fmpz_poly([0, 1])], [flint.fmpz_poly([5]), flint.fmpz_poly([1, 0, 1])]]
+    seen: list[str] = []
+    _progress.set_sink(seen.append)
+    try:
+        with _progress.step("step 5"):
+            f = monic_det_by_kernel(z, 2, 1)
+            assert _progress.current() == "step 5"
+    finally:
+        _progress.set_sink(None)
+    assert f == _expected(z, 2, 1)
+    assert f"step 5; the monic determinant of a 2×2 by its cofactors modulo primes: prime 1 of at most {_MAX_PRIMES}" in seen
+    assert seen[-2:] == ["step 5", ""]

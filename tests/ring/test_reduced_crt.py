@@ -241,3 +241,25 @@ def test_taylor_shift_is_the_substitution():
         p = flint.fmpz_poly(cs)
         assert flint.fmpz_poly(got) == p(flint.fmpz_poly([alpha, 1]))
         assert _taylor_shift(got, -alpha) == cs
+
+
+def test_the_primes_are_told_to_the_progress_note():
+    """A long remaindering says which prime it is at (``uio-ring check``'s heartbeat prints
+    the note), appended to the step's own note, which is restored afterwards."""
+    from uio_ring import _progress
+
+    M, coeffs, lead, D = _generic_case()
+    W = PolyMatrix.identity(5)
+    seen: list[str] = []
+    _progress.set_sink(seen.append)
+    try:
+        with _progress.step("step 3"):
+            got = solve_reduced_crt(coeffs.mi, coeffs.dm, 8, 5, D, lead, _integer_rhs(coeffs, W, 5, D), 5)
+            assert _progress.current() == "step 3"
+    finally:
+        _progress.set_sink(None)
+    assert isinstance(got, tuple)
+    told = [s for s in seen if ": prime " in s]
+    assert told and all(s.startswith("step 3; a ") and "Toeplitz system modulo primes: prime " in s for s in told)
+    assert told[0].endswith("prime 1 of at most " + told[0].rsplit(" ", 1)[1])
+    assert seen[-2:] == ["step 3", ""]

@@ -45,11 +45,12 @@ x + 1
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import flint
 
+from uio_ring import _progress
 from uio_ring.ring._left_prime import det_nmod
 
 __all__ = ["KernelDet", "in_row_module", "kernel_det", "monic_det_by_kernel"]
@@ -202,11 +203,19 @@ def kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
     row i (v is then the cofactor vector divided by that gcd).  None when no candidate
     passed the exact check within the prime budget (``_MAX_PRIMES`` primes from
     ``first_prime``; small values serve tests that meet unlucky primes)."""
+    with _progress.detail(f"the monic determinant of a {n}×{n} by its cofactors modulo primes") as tell:
+        return _kernel_det(w, n, i, first_prime, tell)
+
+
+def _kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, first_prime: int,
+                tell: Callable[[str], None]) -> KernelDet | None:
+    """:func:`kernel_det` (``tell``: its progress note)."""
     r = [w[j] for j in range(n) if j != i]
     modulus = 1
     acc: list[list[int]] | None = None
     norm: tuple[int, int] | None = None
-    for p in _primes(first_prime):
+    for count, p in enumerate(_primes(first_prime), 1):
+        tell(f"prime {count} of at most {_MAX_PRIMES}")
         m = _cofactors_mod_p(r, n, p)
         if all(e.is_zero() for e in m):
             continue  # p divides the content of the cofactors

@@ -51,11 +51,14 @@ primes of 61 bits, about 2 ms each.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import flint
 from flint.utils.flint_exceptions import DomainError
+
+from uio_ring import _progress
 
 IntCoeffs = list[list[list[Any]]]  # [row j][column l] -> integer coefficients, low to high
 
@@ -187,13 +190,23 @@ def _solve_core(
     columns = [e * m + j for j in rest for e in range(D + 1)] + [e * m + j for j, e in pu]
     bound = _hadamard_bits(mi, m, columns, [[b[r][v] for r in range(len(b))] for v in range(k)])
     up = blocks.up
+    primes = word_primes(bound // 60 + 12)
+    with _progress.detail(f"a {n * (D + 1) + up}-unknown Toeplitz system modulo primes") as tell:
+        return _remainders(primes, blocks, bound, rest, pu, m, D, k, tell)
 
+
+def _remainders(
+    primes: list[int], blocks: _Blocks, bound: int, rest: list[int], pu: list[tuple[int, int]],
+    m: int, D: int, k: int, tell: Callable[[str], None],
+) -> tuple[list[list[list[Any]]], flint.fmpz] | str | None:
+    """The loop over the primes of :func:`_solve_core` (``tell``: its progress note)."""
+    up = blocks.up
     sel = None  # the columns C, as a wide × u_P 0/1 matrix
     delta = flint.fmpz(0)
     y_p = flint.fmpz_mat(k, up)
     modulus = flint.fmpz(1)
-    primes = word_primes(bound // 60 + 12)
-    for p in primes:
+    for count, p in enumerate(primes, 1):
+        tell(f"prime {count} of at most {len(primes)}")
         got = _solve_mod_p(p, blocks, sel)
         if got is None:
             if sel is None:
