@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 import random
+from unittest import mock
 
 import pytest
 from hypothesis import given, settings
@@ -25,6 +26,8 @@ from uio_ring.ring._kernel_basis import (
 )
 from uio_ring.ring.errors import NotUnimodularError
 from uio_ring.ring.hermite import hermite_by_elimination
+
+from .strategies import assert_popov, matrices
 
 # the module, not the function of the same name that the package exports
 hermite_module = importlib.import_module("uio_ring.ring.hermite")
@@ -211,3 +214,20 @@ def test_left_kernel_beyond_the_usual_cap_without_swelling(monkeypatch):
     K = left_kernel(M)
     assert calls == [None]
     assert K == kernel_module.left_kernel_by_elimination(M) and K.rows == 3
+
+
+@settings(max_examples=25, deadline=None)
+@given(matrices(min_rows=6, max_rows=8, min_cols=1, max_cols=5))
+def test_left_kernel_beyond_the_usual_cap_is_the_eliminations(M):
+    """Beyond the usual cap (simulated), whichever of the capped elimination and the
+    Toeplitz systems under the larger cap gives the kernel — dense, sparse, rank-deficient
+    M — it is the Popov basis the elimination gives."""
+    real = _kernel_basis.popov_left_kernel
+
+    def refusing(a, m, n, **k):
+        return real(a, m, n, **k) if "max_unknowns" in k else None
+
+    with mock.patch.object(kernel_module, "popov_left_kernel", refusing):
+        K = left_kernel(M)
+    assert K == kernel_module.left_kernel_by_elimination(M)
+    assert_popov(K)
