@@ -55,7 +55,6 @@ sides: 20 primes at about 1.4 ms each, against 0.35 s for the exact 360×360 sol
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any
 
 import flint
@@ -120,19 +119,24 @@ class ToeplitzCoefficients:
     mi: IntCoeffs
     scale: list[flint.fmpz]
     dm: int
+    #: The greatest bit length of the integer coefficients (those of every ``T_D``; at
+    #: least 1).
+    bits: int = 1
     _residues: IntCoeffs | None = None
 
     @classmethod
     def of(cls, a: dn.Rows, m: int, n: int) -> ToeplitzCoefficients:
-        """Precondition: shape m×n (not checked)."""
-        scale = _column_scale(a, m, n)
-        mi = [[scaled_numerator(a[j][col], scale[col]).coeffs() for col in range(n)] for j in range(m)]
-        return cls(mi, scale, max(dn.mat_degree(a), 0))
+        """Precondition: shape m×n (not checked).
 
-    @cached_property
-    def bits(self) -> int:
-        """The greatest bit length of the integer coefficients (those of every ``T_D``)."""
-        return max((abs(c).bit_length() for row in self.mi for cs in row for c in cs), default=1)
+        >>> from uio_ring.ring.matrix import PolyMatrix
+        >>> c = ToeplitzCoefficients.of(PolyMatrix("[[d/2 + 1], [-300*d]]")._r, 2, 1)
+        >>> c.mi, c.scale, c.bits       # column scale 2: [2 + δ; −600·δ], 600 has 10 bits
+        ([[[2, 1]], [[0, -600]]], [2], 10)
+        """
+        scale = _column_scale(a, m, n)
+        polys = [[scaled_numerator(a[j][col], scale[col]) for col in range(n)] for j in range(m)]
+        bits = max([p.height_bits() for row in polys for p in row], default=1)  # in C: no scan here
+        return cls([[p.coeffs() for p in row] for row in polys], scale, max(dn.mat_degree(a), 0), max(bits, 1))
 
     @property
     def residues(self) -> IntCoeffs:
