@@ -462,7 +462,8 @@ def generic_kernel_and_solution(
 def _kernel_rows(gens: list[tuple[int, list[flint.fmpq]]], m: int, D: int) -> dn.Rows:
     """The Popov rows of the generators (coefficient vectors indexed e·m + j), sorted by
     pivot degree, then pivot position."""
-    rows = [[flint.fmpq_poly([g[e * m + j] for e in range(D + 1)]) for j in range(m)] for _, g in gens]
+    end = m * (D + 1)
+    rows = [[flint.fmpq_poly(g[j:end:m]) for j in range(m)] for _, g in gens]  # g[e·m + j], e = 0 … D
     rows.sort(key=dn.leading_position)
     return rows
 
