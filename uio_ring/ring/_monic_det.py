@@ -45,7 +45,7 @@ x + 1
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import flint
@@ -203,54 +203,48 @@ def kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
     row i (v is then the cofactor vector divided by that gcd).  None when no candidate
     passed the exact check within the prime budget (``_MAX_PRIMES`` primes from
     ``first_prime``; small values serve tests that meet unlucky primes)."""
-    with _progress.detail(f"the monic determinant of a {n}×{n} by its cofactors modulo primes") as tell:
-        return _kernel_det(w, n, i, first_prime, tell)
-
-
-def _kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, first_prime: int,
-                tell: Callable[[str], None]) -> KernelDet | None:
-    """:func:`kernel_det` (``tell``: its progress note)."""
     r = [w[j] for j in range(n) if j != i]
     modulus = 1
     acc: list[list[int]] | None = None
     norm: tuple[int, int] | None = None
-    for count, p in enumerate(_primes(first_prime), 1):
-        tell(f"prime {count} of at most {_MAX_PRIMES}")
-        m = _cofactors_mod_p(r, n, p)
-        if all(e.is_zero() for e in m):
-            continue  # p divides the content of the cofactors
-        if norm is None:
-            c = max(range(n), key=lambda j: (m[j].degree(), j))
-            norm = (c, m[c].degree())
-        lc = int(m[norm[0]][norm[1]]) if m[norm[0]].degree() >= norm[1] else 0
-        if lc == 0:
-            continue  # unlucky: p divides the normalising coefficient
-        inv = pow(lc, -1, p)
-        img = [[int(x) * inv % p for x in e.coeffs()] for e in m]
-        width = max(len(e) for e in img)
-        img = [e + [0] * (width - len(e)) for e in img]
-        if acc is None:
-            acc = img
-        else:
-            width = max(width, len(acc[0]))
-            acc = [e + [0] * (width - len(e)) for e in acc]
+    with _progress.detail(f"the monic determinant of a {n}×{n} by its cofactors modulo primes") as tell:
+        for count, p in enumerate(_primes(first_prime), 1):
+            tell(f"prime {count} of at most {_MAX_PRIMES}")
+            m = _cofactors_mod_p(r, n, p)
+            if all(e.is_zero() for e in m):
+                continue  # p divides the content of the cofactors
+            if norm is None:
+                c = max(range(n), key=lambda j: (m[j].degree(), j))
+                norm = (c, m[c].degree())
+            lc = int(m[norm[0]][norm[1]]) if m[norm[0]].degree() >= norm[1] else 0
+            if lc == 0:
+                continue  # unlucky: p divides the normalising coefficient
+            inv = pow(lc, -1, p)
+            img = [[int(x) * inv % p for x in e.coeffs()] for e in m]
+            width = max(len(e) for e in img)
             img = [e + [0] * (width - len(e)) for e in img]
-            u = pow(modulus, -1, p)
-            acc = [[a + modulus * ((b - a) * u % p) for a, b in zip(ea, eb, strict=True)]
-                   for ea, eb in zip(acc, img, strict=True)]
-        modulus *= p
-        v = _reconstruct(acc, modulus)
-        if v is None or all(e.is_zero() for e in v):
-            continue
-        zero = flint.fmpz_poly(0)
-        if any(sum((row[j] * v[j] for j in range(n)), zero) != 0 for row in r):
-            continue  # R·v = 0 fails: not yet enough primes
-        g = zero
-        for e in v:
-            g = g.gcd(e)
-        v = [e // g for e in v]  # exact: g divides every entry; now gcd(v) = 1
-        det = sum((w[i][j] * v[j] for j in range(n)), zero)
-        if det.is_zero():  # pragma: no cover - det W ≠ 0 by the precondition
-            return None
-        return KernelDet(flint.fmpq_poly(det) / det[det.degree()], v)
-    return None
+            if acc is None:
+                acc = img
+            else:
+                width = max(width, len(acc[0]))
+                acc = [e + [0] * (width - len(e)) for e in acc]
+                img = [e + [0] * (width - len(e)) for e in img]
+                u = pow(modulus, -1, p)
+                acc = [[a + modulus * ((b - a) * u % p) for a, b in zip(ea, eb, strict=True)]
+                       for ea, eb in zip(acc, img, strict=True)]
+            modulus *= p
+            v = _reconstruct(acc, modulus)
+            if v is None or all(e.is_zero() for e in v):
+                continue
+            zero = flint.fmpz_poly(0)
+            if any(sum((row[j] * v[j] for j in range(n)), zero) != 0 for row in r):
+                continue  # R·v = 0 fails: not yet enough primes
+            g = zero
+            for e in v:
+                g = g.gcd(e)
+            v = [e // g for e in v]  # exact: g divides every entry; now gcd(v) = 1
+            det = sum((w[i][j] * v[j] for j in range(n)), zero)
+            if det.is_zero():  # pragma: no cover - det W ≠ 0 by the precondition
+                return None
+            return KernelDet(flint.fmpq_poly(det) / det[det.degree()], v)
+        return None

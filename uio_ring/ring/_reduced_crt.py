@@ -51,7 +51,6 @@ primes of 61 bits, about 2 ms each.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -191,56 +190,47 @@ def _solve_core(
     bound = _hadamard_bits(mi, m, columns, [[b[r][v] for r in range(len(b))] for v in range(k)])
     up = blocks.up
     primes = word_primes(bound // 60 + 12)
-    with _progress.detail(f"a {n * (D + 1) + up}-unknown Toeplitz system modulo primes") as tell:
-        return _remainders(primes, blocks, bound, rest, pu, m, D, k, tell)
-
-
-def _remainders(
-    primes: list[int], blocks: _Blocks, bound: int, rest: list[int], pu: list[tuple[int, int]],
-    m: int, D: int, k: int, tell: Callable[[str], None],
-) -> tuple[list[list[list[Any]]], flint.fmpz] | str | None:
-    """The loop over the primes of :func:`_solve_core` (``tell``: its progress note)."""
-    up = blocks.up
     sel = None  # the columns C, as a wide × u_P 0/1 matrix
     delta = flint.fmpz(0)
     y_p = flint.fmpz_mat(k, up)
     modulus = flint.fmpz(1)
-    for count, p in enumerate(primes, 1):
-        tell(f"prime {count} of at most {len(primes)}")
-        got = _solve_mod_p(p, blocks, sel)
-        if got is None:
-            if sel is None:
-                return None  # A_0 or E_G singular modulo the first prime
-            continue  # an unlucky prime for the fixed subsystem
-        if isinstance(got, str):
-            return NO_SOLUTION
-        x_p, det_p, sel = got
-        half = p // 2
-        if modulus == 1:  # an integral solution of small entries is its own residue
-            small = [v if v <= half else v - p for v in map(int, x_p.entries())]
-            if all(-SMALL < v < SMALL for v in small):
-                one = flint.fmpz(1)
-                y_one = flint.fmpz_mat(k, up, small)
-                done = _finish(one, y_one, blocks)
+    with _progress.detail(f"a {n * (D + 1) + up}-unknown Toeplitz system modulo primes") as tell:
+        for count, p in enumerate(primes, 1):
+            tell(f"prime {count} of at most {len(primes)}")
+            got = _solve_mod_p(p, blocks, sel)
+            if got is None:
+                if sel is None:
+                    return None  # A_0 or E_G singular modulo the first prime
+                continue  # an unlucky prime for the fixed subsystem
+            if isinstance(got, str):
+                return NO_SOLUTION
+            x_p, det_p, sel = got
+            half = p // 2
+            if modulus == 1:  # an integral solution of small entries is its own residue
+                small = [v if v <= half else v - p for v in map(int, x_p.entries())]
+                if all(-SMALL < v < SMALL for v in small):
+                    one = flint.fmpz(1)
+                    y_one = flint.fmpz_mat(k, up, small)
+                    done = _finish(one, y_one, blocks)
+                    if done is not None:
+                        return _rows(done, y_one, one, rest, pu, m, D, k), one
+            if modulus != 1 and int(delta % p) == det_p and flint.nmod_mat(y_p, p) == x_p * det_p:
+                done = _finish(delta, y_p, blocks)
                 if done is not None:
-                    return _rows(done, y_one, one, rest, pu, m, D, k), one
-        if modulus != 1 and int(delta % p) == det_p and flint.nmod_mat(y_p, p) == x_p * det_p:
-            done = _finish(delta, y_p, blocks)
-            if done is not None:
+                    return _rows(done, y_p, delta, rest, pu, m, D, k), delta
+            # Garner: the remainders modulo modulus·p, symmetric
+            inv = pow(int(modulus % p), -1, p)
+            t_delta = (det_p - int(delta % p)) * inv % p
+            delta += modulus * (t_delta if t_delta <= p // 2 else t_delta - p)
+            diff = (x_p * det_p - flint.nmod_mat(y_p, p)) * inv
+            y_p += flint.fmpz_mat(k, up, [v if v <= half else v - p for v in map(int, diff.entries())]) * modulus
+            modulus *= p
+            if modulus.bit_length() > bound + 1:
+                done = _finish(delta, y_p, blocks)
+                if done is None:  # pragma: no cover - exact remainders of a solution pass the check
+                    return None
                 return _rows(done, y_p, delta, rest, pu, m, D, k), delta
-        # Garner: the remainders modulo modulus·p, symmetric
-        inv = pow(int(modulus % p), -1, p)
-        t_delta = (det_p - int(delta % p)) * inv % p
-        delta += modulus * (t_delta if t_delta <= p // 2 else t_delta - p)
-        diff = (x_p * det_p - flint.nmod_mat(y_p, p)) * inv
-        y_p += flint.fmpz_mat(k, up, [v if v <= half else v - p for v in map(int, diff.entries())]) * modulus
-        modulus *= p
-        if modulus.bit_length() > bound + 1:
-            done = _finish(delta, y_p, blocks)
-            if done is None:  # pragma: no cover - exact remainders of a solution pass the check
-                return None
-            return _rows(done, y_p, delta, rest, pu, m, D, k), delta
-    return None  # pragma: no cover - the primes exceed the bound
+        return None  # pragma: no cover - the primes exceed the bound
 
 
 @dataclass
