@@ -30,13 +30,14 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from fractions import Fraction
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from uio_ring.errors import DomainError, SimulationError
 from uio_ring.ring.poly import exact_fraction
 from uio_ring.systems.delay_system import DelaySystem
+
+if TYPE_CHECKING:  # numpy is imported where it is used: ``uio-ring check`` needs none of it
+    import numpy as np
 
 __all__ = ["default_rate", "pole_patterns", "search_poles", "least_noise", "couple", "coupled_models", "read_noise_options",
            "figure", "NOISE_CHOICES", "CRITERIA", "SPREADS"]
@@ -109,9 +110,12 @@ def figure(gains: tuple[np.ndarray, np.ndarray | None], criterion: str) -> float
     """The number a search minimises: the worst state's peak-to-peak or H2 gain (``inf``
     when the H2 gain is infinite).
 
+    >>> import numpy as np
     >>> figure((np.array([1.0, 3.0]), None), "h2"), figure((np.array([1.0, 3.0]), None), "peak")
     (inf, 3.0)
     """
+    import numpy as np
+
     p2p, h2 = gains
     if criterion == "h2":
         return math.inf if h2 is None else float(np.max(h2))
@@ -239,6 +243,8 @@ def coupled_models(design: Any, h: Any) -> Callable[[np.ndarray], Any]:
     ``(JΛ)' = JΛ + Δ (I − Γ̄2) Λ + L0' (HΛ)' − L0 HΛ`` — (22′) with the new ``G0``, no
     exact arithmetic (``ΔG = 0`` gives ``design.numeric(h)``).
     """
+    import numpy as np
+
     from uio_ring.numeric.convert import coefficient_arrays
     from uio_ring.ring.matrix import PolyMatrix
 
@@ -286,6 +292,7 @@ def couple(design: Any, h: Any, criterion: str = "peak", *, max_evaluations: int
     On paper 001's example (rate 10, r = 2, l* = 3) it finds ``N_k`` above the diagonal
     (172/25, −467/5, 937): worst-state gain 91.5 → 34.7 with the same poles.
     """
+    import numpy as np
     from scipy.optimize import minimize
 
     from uio_ring.numeric.convert import coefficient_arrays

@@ -22,6 +22,7 @@ uio_ring.errors.SpecError: cannot parse 't + ' at column 5: expected a number, '
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Callable
@@ -186,17 +187,26 @@ def _program(node: Node) -> list[Node]:
     return out
 
 
-def _evaluator(node: Node) -> Callable[[Any, dict[str, Any], Any], Any]:
-    """The postfix program of ``node`` (no recursion) as ``run(t, env, like)``: ``t`` the time,
-    ``env`` the values of state names, numbers broadcast like ``like`` (or left scalar)."""
+@functools.cache
+def _numpy_operations() -> tuple[Any, dict[str, Any], dict[str, Any]]:
+    """numpy, its binary operators and the functions of the grammar, imported at the first
+    evaluation (once)."""
     import numpy as np
 
-    program = _program(node)
     binary = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power}
-    functions: dict[str, Any] = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None))
-                                 for name in FUNCTIONS}
+    functions = {name: ({"abs": np.abs, "atan": np.arctan}.get(name) or getattr(np, name, None)) for name in FUNCTIONS}
+    return np, binary, functions
+
+
+def _evaluator(node: Node) -> Callable[[Any, dict[str, Any], Any], Any]:
+    """The postfix program of ``node`` (no recursion) as ``run(t, env, like)``: ``t`` the time,
+    ``env`` the values of state names, numbers broadcast like ``like`` (or left scalar).
+    numpy is imported at the first evaluation, not here: loading a spec (``uio-ring check``)
+    evaluates nothing."""
+    program = _program(node)
 
     def run(t: Any, env: dict[str, Any], like: Any) -> Any:
+        np, binary, functions = _numpy_operations()
         stack: list[Any] = []
         with np.errstate(all="ignore"):  # non-finite values are caught where the simulation is checked
             for op in program:
@@ -222,11 +232,11 @@ def _evaluator(node: Node) -> Callable[[Any, dict[str, Any], Any], Any]:
 
 def _compile(node: Node) -> Callable[[Any], Any]:
     """A function of t (arrays broadcast)."""
-    import numpy as np
-
     evaluate = _evaluator(node)
 
     def run(t: Any) -> Any:
+        import numpy as np
+
         t = np.asarray(t, dtype=float)
         return evaluate(t, {}, t)
 
@@ -255,8 +265,6 @@ def parse_state_function(texts: Any, variables: Any) -> Callable[[float, Any], A
     >>> phi(np.pi / 2, np.array([2.0, 3.0])).tolist()
     [3.0, -8.0]
     """
-    import numpy as np
-
     names = list(variables)
     bad = [v for v in names if not re.fullmatch(r"[A-Za-z_]\w*", v) or v == "t" or v in _CONSTANTS or v in FUNCTIONS]
     if bad:
@@ -277,6 +285,7 @@ def parse_state_function(texts: Any, variables: Any) -> Callable[[float, Any], A
         fs.append(_compile_env(node))
 
     def phi(t: float, x: Any) -> Any:
+        np = _numpy_operations()[0]
         env = dict(zip(names, np.asarray(x, dtype=float).reshape(-1), strict=True))
         env["t"] = float(t)
         return np.array([float(f(env)) for f in fs])
