@@ -15,7 +15,7 @@ from collections.abc import Sequence
 import flint
 
 from uio_ring.ring import _backend as bk
-from uio_ring.ring._kronecker import matmul_kronecker
+from uio_ring.ring._kronecker import STACK_MIN_BIG_BITS, matmul_kronecker, matmul_stacked
 
 Rows = list[list[flint.fmpq_poly]]
 
@@ -61,12 +61,19 @@ def matmul(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     (:func:`~uio_ring.ring._kronecker.matmul_kronecker`) — unless a is so sparse that
     its nonzero entries times n do not exceed the ``m·k + k·n`` values that product
     would pack: then row by row from those entries (:func:`_matmul_sparse_rows`).
+    Fewer products whose first entries show coefficients of ``STACK_MIN_BIG_BITS`` bits
+    or more go through the coefficient-stacked product when its rule takes it (big
+    coefficients times small ones, :func:`~uio_ring.ring._kronecker.matmul_stacked`).
     Precondition: shapes fit (not checked)."""
     if m * k * n >= KRONECKER_MIN_PRODUCTS:
         rows = [[t for t in range(k) if not ai[t].is_zero()] for ai in a]
         if sum(len(r) for r in rows) * n <= m * k + k * n:
             return _matmul_sparse_rows(a, b, rows, n)
         return matmul_kronecker(a, b, m, k, n)
+    if m * k * n > 1 and max(_first_bits(a), _first_bits(b)) >= STACK_MIN_BIG_BITS:
+        stacked = matmul_stacked(a, b, m, k, n)  # big coefficients times small ones: not one by one
+        if stacked is not None:
+            return stacked
     z = bk.ZERO
     out = []
     bt = [[b[t][j] for t in range(k)] for j in range(n)] if k else [[] for _ in range(n)]
@@ -84,6 +91,17 @@ def matmul(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
             row.append(s)
         out.append(row)
     return out
+
+
+def _first_bits(a: Rows) -> int:
+    """:func:`~uio_ring.ring._backend.bits` of the first nonzero entry of a (0 when there is
+    none): a sample, two calls, that lets :func:`matmul` skip the full size scan of
+    :func:`~uio_ring.ring._kronecker.matmul_stacked` for the small products it mostly forms."""
+    for row in a:
+        for p in row:
+            if p:
+                return bk.bits(p)
+    return 0
 
 
 def _matmul_sparse_rows(a: Rows, b: Rows, rows: list[list[int]], n: int) -> Rows:

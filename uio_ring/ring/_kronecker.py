@@ -34,7 +34,7 @@ import flint
 
 from uio_ring.ring import _backend as bk
 
-__all__ = ["matmul_kronecker", "scaled_numerator"]
+__all__ = ["matmul_kronecker", "matmul_stacked", "scaled_numerator"]
 
 Rows = list[list[flint.fmpq_poly]]
 
@@ -72,21 +72,40 @@ STACK_MAX_DEGREE = 2
 STACK_MAX_BITS = 1 << 20
 
 
+#: From this many bits in the larger coefficients on, the stacked product is also taken when
+#: ``STACK_BITS_PER_PRODUCT·(min deg + 1)·⌈min bits / 64⌉`` does not exceed them
+#: (:func:`_stack_wins`).
+STACK_MIN_BIG_BITS = 2048
+#: The bits of the larger coefficients that pay for one coefficient product of the stack
+#: against the Kronecker product (:func:`_stack_wins`).
+STACK_BITS_PER_PRODUCT = 24
+
+
 def _stack_wins(da: int, db: int, alpha: int, beta: int, s: int) -> bool:
     """Whether the coefficient-stacked product beats the Kronecker one: one factor of
     δ-degree at most ``STACK_MAX_DEGREE``, or ``(min deg + 1)·⌈min bits / 64⌉ ≤
-    log₂((max deg + 1)·s)``.  Per entry product the stack multiplies (min deg + 1)·(max
-    deg + 1) coefficient pairs, each about as costly as the larger coefficient times the
-    smaller one's limbs; the Kronecker product multiplies two numbers of (max deg + 1)·s
-    bits, whose FFT costs about that many bits times their logarithm.  Measured (CPU,
-    n×n by n×n, n = 8, 16, 32; degree/bits of the factors): 240/6000 by 16/3, 8.3 → 2.0 s
+    log₂((max deg + 1)·s)``, or — big coefficients against small ones — ``max bits ≥
+    STACK_MIN_BIG_BITS`` and ``STACK_BITS_PER_PRODUCT·(min deg + 1)·⌈min bits / 64⌉ ≤ max
+    bits``.  Per entry product the stack multiplies (min deg + 1)·(max deg + 1) coefficient
+    pairs, each about as costly as the larger coefficient times the smaller one's limbs;
+    the Kronecker product multiplies two numbers of (max deg + 1)·s bits, whose FFT costs
+    about that many bits times their logarithm, and pads the small coefficients to s bits.
+    Measured (CPU, n×n by n×n, n = 8, 16, 32; degree/bits of the factors): 240/6000 by 16/3, 8.3 → 2.0 s
     at n = 16 (the check U·M = H of a 16×16 Hermite form of degree 16); 120/8000 by 8/3,
     7.5–8.4× faster; 32/3000 by 8/4, 4.0–6.6×; 16/1000 by 4/4, 1.2–4.6×; but 64/500 by
-    16/3, 0.6–0.95× (log₂ = 15 < 17: Kronecker), 16/1000 twice, 0.4–0.8× (Kronecker)."""
+    16/3, 0.6–0.95× (log₂ = 15 < 17: Kronecker), 16/1000 twice, 0.4–0.8× (Kronecker).
+    The third rule (1×16 by 16×16 and squares up to 16×16×16, big factor of degree 60–300):
+    300/2000–16000 by 32/3, 32/20 and 64/3, 1.65–5× faster stacked (the second rule said
+    Kronecker from degree 32 on); 8×8 by 8×8, 300/2500 by 64/20, 1.3×; 4×32 by 32×32,
+    200/8000 by 32/3, 4.4 against 20.6 s; at 500 bits it would not pay (300/500 by 64/3,
+    0.6×)."""
     low, high = min(da, db), max(da, db)
     if low <= STACK_MAX_DEGREE:
         return True
-    return (low + 1) * -(-min(alpha, beta) // 64) <= ((high + 1) * s).bit_length() - 1
+    products = (low + 1) * -(-min(alpha, beta) // 64)
+    if max(alpha, beta) >= STACK_MIN_BIG_BITS and STACK_BITS_PER_PRODUCT * products <= max(alpha, beta):
+        return True
+    return products <= ((high + 1) * s).bit_length() - 1
 
 
 def _matmul_stacked(
@@ -147,15 +166,35 @@ def matmul_kronecker(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     zero).  A left inverse reduced modulo a constant kernel basis is zero outside n_x of
     its columns: Ō_L⁻¹·Ō of a 32-state design, 32×216 by 216×32, is a 32×32 by 32×32
     product (0.95 s → 0.15 s).  Precondition: shapes fit, m, k, n ≥ 1 (not checked)."""
+    got = _on_support(a, b, m, k, n, stacked_only=False)
+    assert got is not None  # only ``stacked_only`` declines
+    return got
+
+
+def matmul_stacked(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows | None:
+    """:func:`matmul_kronecker` when it would take the coefficient-stacked product
+    (:func:`_stack_wins`), else None: for few entry products, which
+    :func:`~uio_ring.ring._dense.matmul` otherwise forms one by one — flint's product of a
+    polynomial with big coefficients by one with small ones pads the small coefficients to
+    the size of the big ones (Kronecker substitution): Δ_k·B of a 32-state check, 1×32 by
+    32×8 with 17-kbit coefficients of degree 500 against 2-bit ones of degree 16, 6.0 s
+    entry by entry, 0.9 s stacked.  Precondition: shapes fit, m, k, n ≥ 1 (not checked)."""
+    return _on_support(a, b, m, k, n, stacked_only=True)
+
+
+def _on_support(a: Rows, b: Rows, m: int, k: int, n: int, *, stacked_only: bool) -> Rows | None:
+    """:func:`_matmul_packed` on the support (:func:`matmul_kronecker`)."""
     inner = [t for t in range(k) if any(not p.is_zero() for p in b[t]) and any(not r[t].is_zero() for r in a)]
     rows = [i for i in range(m) if any(not a[i][t].is_zero() for t in inner)]
     cols = [j for j in range(n) if any(not b[t][j].is_zero() for t in inner)]
     if not rows or not cols:
         return [[bk.ZERO] * n for _ in range(m)]
     if len(inner) == k and len(rows) == m and len(cols) == n:
-        return _matmul_packed(a, b, m, k, n)
+        return _matmul_packed(a, b, m, k, n, stacked_only=stacked_only)
     part = _matmul_packed([[a[i][t] for t in inner] for i in rows], [[b[t][j] for j in cols] for t in inner],
-                          len(rows), len(inner), len(cols))
+                          len(rows), len(inner), len(cols), stacked_only=stacked_only)
+    if part is None:
+        return None
     out = [[bk.ZERO] * n for _ in range(m)]
     for i, prow in zip(rows, part, strict=True):
         orow = out[i]
@@ -164,9 +203,9 @@ def matmul_kronecker(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     return out
 
 
-def _matmul_packed(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
-    """:func:`matmul_kronecker` on all indices.  Precondition: shapes fit, m, k, n ≥ 1
-    (not checked)."""
+def _matmul_packed(a: Rows, b: Rows, m: int, k: int, n: int, *, stacked_only: bool = False) -> Rows | None:
+    """:func:`matmul_kronecker` on all indices; None when ``stacked_only`` and the rule
+    takes the Kronecker product.  Precondition: shapes fit, m, k, n ≥ 1 (not checked)."""
     row_scale = [bk.denominator_lcm(a[i]) for i in range(m)]
     col_scale = [bk.denominator_lcm(b[t][j] for t in range(k)) for j in range(n)]
     an = [[scaled_numerator(a[i][t], row_scale[i]) for t in range(k)] for i in range(m)]
@@ -181,6 +220,8 @@ def _matmul_packed(a: Rows, b: Rows, m: int, k: int, n: int) -> Rows:
     s = -(-s // 8) * 8
     if min(alpha, beta) <= STACK_MAX_BITS and _stack_wins(da, db, alpha, beta, s):
         return _matmul_stacked(an, bn, m, k, n, da, db, row_scale, col_scale)
+    if stacked_only:
+        return None
     pa = flint.fmpz_mat(m, k, [_value_at_power_of_two(p, s) for r in an for p in r])
     pb = flint.fmpz_mat(k, n, [_value_at_power_of_two(p, s) for r in bn for p in r])
     prod = pa * pb
