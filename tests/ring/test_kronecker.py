@@ -172,3 +172,8 @@ def test_big_coefficients_times_small_ones_take_the_stack_in_few_products(monkey
     assert (row @ row.T)._r == _entrywise(row, row.T)  # big by big: one by one
     assert (small @ small.T)._r == _entrywise(small, small.T)
     assert calls == [(43, 16), (16, 43)]
+    # 1×32 by 32×32, 1024 products from a dense row, which took the row-by-row path
+    wide = PolyMatrix([[f"({(-1) ** t}*3**1400 + {t})*d**{8 + t % 5} - 7" for t in range(32)]])
+    square = PolyMatrix([[f"{(t * j) % 5 - 2}*d**{(t + j) % 4} + 1" for j in range(32)] for t in range(32)])
+    assert (wide @ square)._r == _entrywise(wide, square)
+    assert calls[2:] == [(12, 3)]
