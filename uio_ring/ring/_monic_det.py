@@ -47,6 +47,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Any
 
 import flint
 
@@ -121,6 +122,11 @@ def _cofactors_mod_p(r: list[list[flint.fmpz_poly]], n: int, p: int) -> list[fli
     return x
 
 
+def _lift(e: flint.nmod_poly) -> flint.fmpz_poly:
+    """The integer polynomial with the residues of e, in [0, p), as coefficients."""
+    return flint.fmpz_poly([int(x) for x in e.coeffs()])
+
+
 def _rat(a: int, m: int) -> tuple[int, int] | None:
     """Wang's rational reconstruction of a mod m: (num, den) with |num|, den ≤ √(m/2), or None."""
     bound = flint.fmpz(m // 2).isqrt()
@@ -138,19 +144,22 @@ def _rat(a: int, m: int) -> tuple[int, int] | None:
     return int(r1), int(s1)
 
 
-def _reconstruct(vals: list[list[int]], modulus: int) -> list[flint.fmpz_poly] | None:
-    """Integer vector proportional to the rational reconstruction of every coefficient, or None."""
+def _reconstruct(vals: list[flint.fmpz_poly], modulus: int) -> list[flint.fmpz_poly] | None:
+    """Integer vector proportional to the rational reconstruction of every coefficient
+    (of the entries of ``vals``, residues in [0, modulus)), or None.  An entry's
+    coefficients are read only when the entries before it passed: a wrong candidate
+    usually fails at its first coefficients."""
     half = modulus // 2
     den = 1
-    nums: list[list[int]] = []
+    nums: list[list[Any]] = []
     for entry in vals:
-        row: list[int] = []
-        for a in entry:
-            x = a * den % modulus
+        row: list[Any] = []
+        for a in entry.coeffs():
+            x: Any = a * den % modulus  # an fmpz, or an int once reconstructed
             if x > half:
                 x -= modulus
             if abs(x) * abs(x) * 2 > modulus:  # not small with the current denominator
-                rr = _rat(x, modulus)
+                rr = _rat(int(x), modulus)
                 if rr is None:
                     return None
                 den *= rr[1]
@@ -205,7 +214,7 @@ def kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
     ``first_prime``; small values serve tests that meet unlucky primes)."""
     r = [w[j] for j in range(n) if j != i]
     modulus = 1
-    acc: list[list[int]] | None = None
+    acc: list[flint.fmpz_poly] | None = None  # the images so far, coefficients in [0, modulus)
     norm: tuple[int, int] | None = None
     with _progress.detail(f"the monic determinant of a {n}×{n} by its cofactors modulo primes") as tell:
         for count, p in enumerate(_primes(first_prime), 1):
@@ -220,18 +229,13 @@ def kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
             if lc == 0:
                 continue  # unlucky: p divides the normalising coefficient
             inv = pow(lc, -1, p)
-            img = [[int(x) * inv % p for x in e.coeffs()] for e in m]
-            width = max(len(e) for e in img)
-            img = [e + [0] * (width - len(e)) for e in img]
+            img = [e * inv for e in m]
             if acc is None:
-                acc = img
+                acc = [_lift(e) for e in img]
             else:
-                width = max(width, len(acc[0]))
-                acc = [e + [0] * (width - len(e)) for e in acc]
-                img = [e + [0] * (width - len(e)) for e in img]
+                # Garner, a polynomial at a time in C: a + modulus·((b − a)·modulus⁻¹ mod p)
                 u = pow(modulus, -1, p)
-                acc = [[a + modulus * ((b - a) * u % p) for a, b in zip(ea, eb, strict=True)]
-                       for ea, eb in zip(acc, img, strict=True)]
+                acc = [a + _lift((b - flint.nmod_poly(a, p)) * u) * modulus for a, b in zip(acc, img, strict=True)]
             modulus *= p
             v = _reconstruct(acc, modulus)
             if v is None or all(e.is_zero() for e in v):
