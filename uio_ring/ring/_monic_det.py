@@ -47,11 +47,11 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any
 
 import flint
 
 from uio_ring import _progress
+from uio_ring.ring._crt import images_combined, proportional_integers
 from uio_ring.ring._left_prime import det_nmod
 
 __all__ = ["KernelDet", "in_row_module", "kernel_det", "monic_det_by_kernel"]
@@ -122,55 +122,6 @@ def _cofactors_mod_p(r: list[list[flint.fmpz_poly]], n: int, p: int) -> list[fli
     return x
 
 
-def _lift(e: flint.nmod_poly) -> flint.fmpz_poly:
-    """The integer polynomial with the residues of e, in [0, p), as coefficients."""
-    return flint.fmpz_poly([int(x) for x in e.coeffs()])
-
-
-def _rat(a: int, m: int) -> tuple[int, int] | None:
-    """Wang's rational reconstruction of a mod m: (num, den) with |num|, den ≤ √(m/2), or None."""
-    bound = flint.fmpz(m // 2).isqrt()
-    r0, r1, s0, s1 = m, a % m, 0, 1
-    while r1 > bound:
-        q = r0 // r1
-        r0, r1 = r1, r0 - q * r1
-        s0, s1 = s1, s0 - q * s1
-    if s1 == 0 or abs(s1) > bound:
-        return None
-    if s1 < 0:
-        r1, s1 = -r1, -s1
-    if flint.fmpz(r1).gcd(s1) != 1:
-        return None
-    return int(r1), int(s1)
-
-
-def _reconstruct(vals: list[flint.fmpz_poly], modulus: int) -> list[flint.fmpz_poly] | None:
-    """Integer vector proportional to the rational reconstruction of every coefficient
-    (of the entries of ``vals``, residues in [0, modulus)), or None.  An entry's
-    coefficients are read only when the entries before it passed: a wrong candidate
-    usually fails at its first coefficients."""
-    half = modulus // 2
-    den = 1
-    nums: list[list[Any]] = []
-    for entry in vals:
-        row: list[Any] = []
-        for a in entry.coeffs():
-            x: Any = a * den % modulus  # an fmpz, or an int once reconstructed
-            if x > half:
-                x -= modulus
-            if abs(x) * abs(x) * 2 > modulus:  # not small with the current denominator
-                rr = _rat(int(x), modulus)
-                if rr is None:
-                    return None
-                den *= rr[1]
-                row = [c * rr[1] for c in row]
-                nums = [[c * rr[1] for c in e] for e in nums]
-                x = rr[0]
-            row.append(x)
-        nums.append(row)
-    return [flint.fmpz_poly(e) for e in nums]
-
-
 @dataclass(frozen=True)
 class KernelDet:
     """``f``: monic det W; ``v``: the primitive kernel vector of W without row i (over Z[δ])."""
@@ -229,15 +180,9 @@ def kernel_det(w: list[list[flint.fmpz_poly]], n: int, i: int, *,
             if lc == 0:
                 continue  # unlucky: p divides the normalising coefficient
             inv = pow(lc, -1, p)
-            img = [e * inv for e in m]
-            if acc is None:
-                acc = [_lift(e) for e in img]
-            else:
-                # Garner, a polynomial at a time in C: a + modulus·((b − a)·modulus⁻¹ mod p)
-                u = pow(modulus, -1, p)
-                acc = [a + _lift((b - flint.nmod_poly(a, p)) * u) * modulus for a, b in zip(acc, img, strict=True)]
+            acc = images_combined(acc, modulus, [e * inv for e in m], p)
             modulus *= p
-            v = _reconstruct(acc, modulus)
+            v = proportional_integers(acc, modulus)
             if v is None or all(e.is_zero() for e in v):
                 continue
             zero = flint.fmpz_poly(0)
