@@ -50,15 +50,20 @@ Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, 
       Popov basis has 168 bits (its total, 21 425 bits, is below its weak Popov one's).
 
     Expected below 1× (time, not size): ``hermite`` and ``left_inverse`` on the column
-    family, 0.2–0.7× (3×1 and 6×1 of degree 16: 0.3–0.5 ms against 0.1–0.2 ms; by
+    family, 0.2–0.9× (3×1 and 6×1 of degree 16: 0.5–0.8 ms against 0.3–0.5 ms; by
     instruction count, ``count_instructions.py``, 0.24–0.32×).  SageMath's
     ``hermite_form`` of a column is m − 1 extended gcds, its U left as they build it: its
     kernel rows are not a minimal basis (6×1 of degree 16: U of degree 31, the minimal
     indices are 3 and 4; degree 64: 127 against 13), and its left inverse is not reduced
     modulo one (degree 63 against 12).  Ours is the normalised U — the Popov basis of the
     kernel and X reduced modulo it, unique — which is a block-Toeplitz solve (97×97 for a
-    3×1 of degree 64) and costs more than those gcds.  The kernel itself is 1.4–7×
-    faster than SageMath's ``minimal_kernel_basis`` on the same columns.
+    3×1 of degree 64) and costs more than those gcds.  A structured alternative for 3×1
+    columns was built and measured (half an extended gcd modulo word primes, Chinese
+    remaindering, the same exact certificate): slower than that solve in C, 0.46–0.64
+    against 0.36–0.49 ms at degree 16 and 8.6–9.1 against 6.3–6.4 ms at degree 64 (11
+    primes; Wang's reconstruction of 700-bit residues in Python, about 0.25 ms each).  The
+    kernel itself is 2.6–11× faster than SageMath's ``minimal_kernel_basis`` on the same
+    columns.
 
     Both libraries' results are verified
     after timing (U·M = H, U·M·V = S with U, V unimodular, K·M = 0 with
