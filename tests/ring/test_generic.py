@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import random
 
+import flint
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
@@ -24,7 +25,12 @@ from uio_ring.ring import (
     smith,
     solve_left,
 )
-from uio_ring.ring._generic import generic_hermite, generic_last_factor, generic_solve_left
+from uio_ring.ring._generic import (
+    _polynomial_parts,
+    generic_hermite,
+    generic_last_factor,
+    generic_solve_left,
+)
 from uio_ring.ring.hermite import hermite_by_elimination
 from uio_ring.ring.smith import invariant_factors_by_elimination, smith_by_elimination
 
@@ -206,3 +212,24 @@ def test_degree_reduced_matrix_whose_elimination_swells_takes_the_generic_tier(m
     assert f[: n - 2] == (PolyMatrix.identity(1)[0, 0],) * (n - 2)
     assert f[n - 2] == d1 and f[n - 1] == (d1 * A.det()).monic()
     assert f == invariant_factors_by_elimination(M)
+
+
+@settings(max_examples=60, deadline=None)
+@given(data=st.data(), dd=st.integers(1, 12), dw=st.integers(0, 14), k=st.integers(1, 4))
+def test_polynomial_parts_equal_the_exact_quotients(data, dd, dw, k):
+    # U_ij = (adj_ij + h_i·w_j)/det with adj_ij = −(h_i·w_j mod det), so of degree < deg det:
+    # the series path must give the quotients of the exact divisions
+    def poly(deg, big=False):
+        lim = 1 << 200 if big else 5
+        cs = data.draw(st.lists(st.integers(-lim, lim), min_size=deg + 1, max_size=deg + 1))
+        den = data.draw(st.integers(1, 1 << 60 if big else 3))
+        return flint.fmpq_poly(cs, den)
+
+    det = poly(dd)
+    if det.degree() != dd:
+        det += flint.fmpq_poly([0] * dd + [1])
+    h = [poly(dd - 1, big=True) for _ in range(k)]
+    w = [poly(dw) for _ in range(3)]
+    adj = [[-((hi * wj) % det) for wj in w] for hi in h]
+    want = [[(a + hi * wj) // det for a, wj in zip(row, w, strict=True)] for row, hi in zip(adj, h, strict=True)]
+    assert _polynomial_parts(h, w, det) == want

@@ -13,7 +13,9 @@ For a nonsingular n×n matrix M the Hermite form is usually
 * ``U = H·M⁻¹ = H·adj(M)/det M`` is then polynomial.  adj(M) is interpolated
   from its exact values ``det M(x)·M(x)⁻¹`` (integers for an integer M: cheap
   rational products) at the degree bound of the (n−1)-minors plus one points,
-  and ``U_i = (adj_i + h_i·adj_n) / det M`` by exact division.
+  and ``U_i = (adj_i + h_i·adj_n) / det M``: the polynomial part of
+  ``adj_n·h_i/det M`` from a power series when ``deg adj_i < deg det M``
+  (:func:`_polynomial_parts`), else by exact division.
 * ``V = [[I, −h], [0, 1]]`` gives ``H·V = diag(1, …, 1, δ_n)``: the Smith form.
 
 All linear algebra runs over Q in C (flint).  Points are the fixed sequence
@@ -201,18 +203,66 @@ def generic_hermite(a: dn.Rows, n: int) -> tuple[dn.Rows, dn.Rows, list[flint.fm
     polys = ev.interpolate_columns(flint.fmpq_mat(k, n * n, [v for row in values for v in row]), xs[:k])
     adj = [polys[i * n : (i + 1) * n] for i in range(n)]
     last = adj[n - 1]
-    U = []
-    for i in range(n - 1):
-        row = []
-        for a_ij, a_nj in zip(adj[i], last, strict=True):
-            q, r = divmod(a_ij + h[i] * a_nj, det)
-            if not r.is_zero():  # pragma: no cover - U = H·M⁻¹ is polynomial (certified shape)
-                return None
-            row.append(q)
-        U.append(row)
+    if all(p.degree() < det.degree() for row in adj[: n - 1] for p in row):
+        U = _polynomial_parts(h, last, det)
+    else:
+        U = []
+        for i in range(n - 1):
+            row = []
+            for a_ij, a_nj in zip(adj[i], last, strict=True):
+                q, r = divmod(a_ij + h[i] * a_nj, det)
+                if not r.is_zero():  # pragma: no cover - U = H·M⁻¹ is polynomial (certified shape)
+                    return None
+                row.append(q)
+            U.append(row)
     lcd = bk.lc(det)
     U.append([a / lcd for a in last])
     return H, U, h
+
+
+def _polynomial_parts(h: list[flint.fmpq_poly], w: list[flint.fmpq_poly], det: flint.fmpq_poly) -> dn.Rows:
+    """``U_ij = (adj_ij + h_i·w_j) / det`` for i < n − 1 when every ``adj_ij`` there has a
+    degree below ``deg det``, without dividing: U_ij is a polynomial, so it is its own
+    polynomial part, which is linear and zero on ``adj_ij / det``, so ``U_ij`` is the
+    polynomial part of ``w_j·(h_i/det)``.  With ``deg h_i < deg det`` the expansion
+    ``h_i/det = Σ_l c_l δ^(−1−l)`` at infinity is the power series ``rev h_i / rev det``
+    (reversed coefficients), of which the terms l < K = max deg w + 1 reach the
+    polynomial part: ``U_ij = (C_i·w_j) >> K`` with ``C_i = Σ_(l<K) c_l δ^(K−1−l)``.
+    One power-series inverse of ``rev det`` (Newton), n − 1 truncated products and
+    (n − 1)·n products; the exact divisions it replaces cost about three times the
+    products (a random 32×32 of degree 2, h of 13.4-kbit coefficients: 3.15 s of
+    divisions and 1.26 s of products, against 1.2–1.95 s here).
+
+    >>> d = bk.from_coeffs([0, 1])
+    >>> det = d * d + 1                       # U = (adj + h·w)/det with adj = −1 − d
+    >>> _polynomial_parts([d + 2], [d * d * d + 3], det) == [[((-1 - d) + (d + 2) * (d * d * d + 3)) // det]]
+    True
+    """
+    dd = det.degree()
+    K = max(p.degree() for p in w) + 1
+    inv = _inverse_series(flint.fmpq_poly(det.coeffs()[::-1]), K)
+    U = []
+    for hi in h:
+        hc = hi.coeffs()
+        rev = flint.fmpq_poly([flint.fmpq(0)] * (dd - len(hc)) + hc[::-1])
+        c = (rev * inv).truncate(K).coeffs()
+        ci = flint.fmpq_poly((c + [0] * (K - len(c)))[::-1])
+        U.append([(ci * wj).right_shift(K) for wj in w])
+    return U
+
+
+def _inverse_series(f: flint.fmpq_poly, k: int) -> flint.fmpq_poly:
+    """``1/f mod δ^k`` for ``f(0) ≠ 0``, by Newton's iteration ``g ← g·(2 − f·g)``.
+
+    >>> _inverse_series(flint.fmpq_poly([1, -1]), 4)        # 1/(1 − δ)
+    x^3 + x^2 + x + 1
+    """
+    g = flint.fmpq_poly([1 / f[0]])
+    prec = 1
+    while prec < k:
+        prec = min(2 * prec, k)
+        g = (g * (2 - (f.truncate(prec) * g).truncate(prec))).truncate(prec)
+    return g
 
 
 def generic_solve_left(v: dn.Rows, w: dn.Rows, n: int, m: int) -> dn.Rows | None:
