@@ -17,9 +17,10 @@ import ast
 import importlib
 import pathlib
 import random
+from unittest import mock
 
 import pytest
-from hypothesis import given
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from uio_ring.ring import (
@@ -300,6 +301,61 @@ def test_small_square_of_high_degree_with_small_coefficients_stays_in_the_elimin
     assert s.U @ M @ s.V == s.S and s.S == S
     assert_unimodular(s.U, 4)
     assert_unimodular(s.V, 4)
+
+
+def _rows_of_degrees(rng: random.Random, degrees: list[int]) -> PolyMatrix:
+    """A square matrix whose row i has entries of degree ≤ degrees[i], one of them exactly."""
+    def entry(d: int, lead: bool) -> str:
+        coeffs = [rng.randint(-3, 3) for _ in range(d)] + [rng.choice([-2, -1, 1, 2]) if lead else rng.randint(-3, 3)]
+        return " + ".join(f"({c})*d**{e}" for e, c in enumerate(coeffs))
+
+    n = len(degrees)
+    return PolyMatrix([[entry(d, j == i % n) for j in range(n)] for i, d in enumerate(degrees)])
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 10**6), low=st.lists(st.integers(0, 2), min_size=1, max_size=5),
+       high=st.lists(st.integers(14, 24), min_size=1, max_size=2))
+def test_square_with_few_rows_of_high_degree_takes_the_elimination(seed, low, high):
+    """Row degrees such as 0, 2, 1, 16, 24 (``few_high_rows``; 3 to 7 rows): the elimination under
+    ``unbalanced_cap`` answers, without the generic path, and gives the unique H and U; with
+    the cap at zero it gives way and the other paths give the same H and U."""
+    degrees = low + high
+    assume(len(degrees) >= 3)
+    M = _rows_of_degrees(random.Random(seed), degrees)
+    assume(not M.det().is_zero())
+    n = len(degrees)
+    assert hermite_module.generic_first(M._r, n) and hermite_module.few_high_rows(M._r)
+    ref = hermite_by_elimination(M)
+    calls: list[bool] = []
+    real = hermite_module.generic_hermite
+
+    def spy(a, k):
+        calls.append(True)
+        return real(a, k)
+
+    with mock.patch.object(hermite_module, "generic_hermite", spy):
+        h = hermite(M)
+        assert calls == []
+        assert (h.H, h.U) == (ref.H, ref.U) and h.U @ M == h.H
+        with mock.patch.object(hermite_module, "UNBALANCED_CAP_FACTOR", 0):
+            g = hermite(M)
+    assert (g.H, g.U) == (ref.H, ref.U)
+
+
+def test_few_high_rows():
+    """At most two rows above a third of the greatest degree, and the others a block
+    the elimination handles (len³·degree < GENERIC_MIN_WORK)."""
+    def rows(*degrees):
+        return [[bk.from_coeffs([1] * (d + 1))] for d in degrees]
+
+    assert hermite_module.few_high_rows(rows(0, 1, 4, 16, 32))
+    assert hermite_module.few_high_rows(rows(3, 3, 3, 40))
+    assert hermite_module.few_high_rows(rows(0, 8, 16, 24))
+    assert not hermite_module.few_high_rows(rows(1, 6, 12, 32, 32))  # three above 32/3
+    assert not hermite_module.few_high_rows(rows(8, 8, 8, 8, 8))
+    assert not hermite_module.few_high_rows(rows(32, 32, 32, 128, 128))  # 27·32 ≥ 375
+    assert hermite_module.few_high_rows(rows(13, 13, 13, 128, 128))  # 27·13 < 375
 
 
 @pytest.mark.parametrize("at_zero", [True, False])

@@ -30,7 +30,12 @@ from uio_ring.ring._echelon import (
     reduce_transform,
     row_echelon,
 )
-from uio_ring.ring._generic import GENERIC_MIN_SIZE, generic_first, generic_hermite
+from uio_ring.ring._generic import (
+    GENERIC_MIN_SIZE,
+    GENERIC_MIN_WORK,
+    generic_first,
+    generic_hermite,
+)
 from uio_ring.ring._kernel_basis import (
     SWELL_MAX_UNKNOWNS,
     TOEPLITZ_MIN_ROWS,
@@ -137,7 +142,10 @@ def hermite(M: PolyMatrix) -> HermiteResult:
     O(n⁴·deg) rational operations in C).  Smaller square matrices of high degree
     (from 3×3, ``n³·deg ≥ GENERIC_MIN_WORK``: 4×4 from degree 6) take the same two paths
     when the elimination below outgrows its cap (``ELIMINATION_BITS``): a 5×5 of degree 32
-    with entries in [−3, 3], 0.15 s against 11.5 s for the elimination.  Wide M of full
+    with entries in [−3, 3], 0.15 s against 11.5 s for the elimination.  Unless at most
+    two rows are of high degree (:func:`few_high_rows`, row degrees such as 0, 1, 4, 16,
+    32; from 3 rows on, below ``GENERIC_MIN_SIZE`` or not): then the elimination runs under a cap of U's own size (:func:`unbalanced_cap`;
+    7 ms against 22 ms by evaluation).  Wide M of full
     row rank (at least ``WIDE_BLOCK_MIN_ROWS`` rows, rows·δ-degree ≥
     ``WIDE_BLOCK_MIN_DEGREES``): the Hermite form of the square block of its pivot
     columns, read at a point and checked, gives U and ``H = U·M``
@@ -195,6 +203,10 @@ def hermite(M: PolyMatrix) -> HermiteResult:
         return _hermite_of_echelon(M, order)
     singular = False
     generic = m == n and generic_first(M._r, n)
+    if generic and few_high_rows(M._r):
+        small = _hermite_of_unbalanced_rows(M)
+        if small is not None:
+            return small
     if generic and n >= GENERIC_MIN_SIZE:
         got, singular = _hermite_square_generic(M)
         if got is not None:
@@ -674,6 +686,74 @@ ELIMINATION_MAX_DEGREE = 8
 CAP_MIN_DEGREE = 8
 
 
+#: :func:`unbalanced_cap`: bits per unit of ``Σ row degrees`` and of ``bits + log₂ n + 1``.
+UNBALANCED_CAP_FACTOR = 16
+
+
+def few_high_rows(rows: dn.Rows) -> bool:
+    """Whether at most two rows of M have a degree above a third of the greatest (row
+    degrees such as 0, 1, 4, 16, 32 or 0, 8, 16, 24 or 3, 3, 3, 40).
+
+    Then the Euclidean elimination with least-degree pivots clears the columns with the
+    low rows, whose quotients do not swell, and only the last two rows meet in one
+    extended gcd: its coefficients peaked at 1.0–2.5× the bits of U on such matrices,
+    and at up to 7.7× with three rows or more of high degree.  For a square M of 3 to 5 rows
+    (random entries in [−3, 3]; generic path / elimination, ms): row degrees 0, 1, 4,
+    16, 32: 22 / 7.4; 3, 3, 3, 40: 20 / 5.2; 0, 0, 6, 32: 11 / 0.7; 2, 3, 4, 32, 32:
+    55 / 59 (the worst seen); 0, 8, 16, 24: 11 / 3.1; but 1, 6, 12, 32, 32: 56 / 149
+    and 8, 8, 8, 8, 8: 10 / 44.
+    The other rows must be a block the elimination handles itself (``len³ · degree <
+    GENERIC_MIN_WORK``, :func:`~uio_ring.ring._generic.generic_first`): three rows of
+    degree 32 under two of degree 128 swell as a balanced 3×3 of degree 32 does (25 ms
+    by the generic path, 51 ms by elimination).  That condition also bounds the size:
+    the rule without it took 4.2 s by elimination against 0.19 s by the generic path on
+    row degrees 1, 2, 3, 4, 4, 5, 5, 8, 15, 32; with it, 6×6 and 7×7 matrices pass when
+    their other rows have degree ≤ 2 (2, 2, 2, 2, 2, 30: 7.2 against 20 ms; the worst
+    seen, 1, 1, 2, 2, 2, 8, 8: 10 against 8.4 ms).  U is unique (M square and
+    nonsingular), so the choice changes no result.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix([[1, 2, 0], ["d**16", 1, "d"], ["d**32", "d", 1]])
+    >>> few_high_rows(M._r), few_high_rows((M + PolyMatrix([["d**12"] * 3] * 3))._r)
+    (True, False)
+    """
+    degrees = sorted((dn.row_degree(row) for row in rows), reverse=True)
+    high = sum(3 * d > degrees[0] for d in degrees)
+    rest = degrees[high:]
+    # and the low rows are themselves a block the elimination handles (generic_first)
+    return high <= 2 and (not rest or len(rest) ** 3 * rest[0] < GENERIC_MIN_WORK)
+
+
+def _hermite_of_unbalanced_rows(M: PolyMatrix) -> HermiteResult | None:
+    """Hermite form with U of a square M with :func:`few_high_rows`, by the elimination
+    under :func:`unbalanced_cap` (None when it swells past it): pairwise extended-gcd
+    steps when M(0) is nonsingular, as SageMath's Euclidean Hermite form does (row
+    degrees 2, 2, 2, 2, 2, 30: 7.2 ms, against 18 ms with remainder passes and 20 ms by
+    the generic path), else remainder passes.
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix([[1, 2, 0], ["d**16", 1, "d"], ["d**32 + 1", "d", 1]])
+    >>> r = _hermite_of_unbalanced_rows(M)
+    >>> r.U @ M == r.H, r.H[2, 2] == M.det().monic()
+    (True, True)
+    """
+    n = M.rows
+    pairwise = full_rank_at_zero(M._r, n, n)
+    return _hermite_by_small_elimination(M, xgcd_rows=n if pairwise else 2, capped=True, base_bits=unbalanced_cap(M._r))
+
+
+def unbalanced_cap(rows: dn.Rows) -> int:
+    """The bit cap, above M's own bits (:func:`elimination_cap`), of the elimination of a
+    square M with :func:`few_high_rows`: ``UNBALANCED_CAP_FACTOR · Σ row degrees ·
+    (bits + log₂ n + 1)``.  The U of such an M has about 2–4 bits per unit of
+    ``Σ row degrees · (bits + log₂ n + 1)`` (``Σ row degrees ≥ deg det``; row degrees
+    0, 1, 4, 16, 32 and entries in [−3, 3]: 949 bits against 53·5.3), its elimination
+    peaks at 1–1.8 times that: the cap is a guard against a swell this rule did not
+    foresee, not the test that chooses the path."""
+    total = sum(dn.row_degree(row) for row in rows)
+    return UNBALANCED_CAP_FACTOR * total * (max_bits(rows) + len(rows).bit_length() + 1)
+
+
 def _few_rows_of_high_degree(M: PolyMatrix) -> bool:
     """Fewer than ``TOEPLITZ_MIN_ROWS`` rows and δ-degree ≥ ``CAP_MIN_DEGREE``: the shape
     where a plain elimination can swell for seconds and the callers (kernel, solve) go
@@ -731,7 +811,7 @@ CAP_MIN_ENTRIES = 40
 
 def _hermite_by_small_elimination(
     M: PolyMatrix, *, xgcd_rows: int = 2, full: bool = False,
-    capped: bool | None = None,
+    capped: bool | None = None, base_bits: int | None = None,
 ) -> HermiteResult | None:
     """:func:`hermite_by_elimination` with the Popov kernel taken from U itself, or
     None as soon as a coefficient of the elimination exceeds ``ELIMINATION_BITS +
@@ -756,6 +836,8 @@ def _hermite_by_small_elimination(
     row it would scale, whose cap stops a swelling elimination sooner).  ``capped``:
     whether the cap applies (default: from ``CAP_MIN_ENTRIES`` entries or
     ``CAP_MIN_DEGREE`` on; with ``full``, from ``CAP_MIN_ENTRIES`` nonzero-row entries).
+    ``base_bits``: the cap's allowance above M's own bits, instead of ``ELIMINATION_BITS``
+    (``FULL_ELIMINATION_BITS`` with ``full``).
 
     >>> from uio_ring.ring.matrix import PolyMatrix
     >>> M = PolyMatrix([[1, "d"], [0, 1], ["d", "d**2 + 1"]])
@@ -770,9 +852,9 @@ def _hermite_by_small_elimination(
         kept = PolyMatrix._new([row for i, row in enumerate(M._r) if i not in gone], m - len(gone), n, M.var)
         if capped is None and not full:  # the path-choosing cap: from M's own shape
             capped = _capped(M)
-        res = _hermite_by_small_elimination(kept, xgcd_rows=xgcd_rows, full=full, capped=capped)
+        res = _hermite_by_small_elimination(kept, xgcd_rows=xgcd_rows, full=full, capped=capped, base_bits=base_bits)
         return None if res is None else _with_zero_rows(res, zero_rows, m)
-    bits = FULL_ELIMINATION_BITS if full else ELIMINATION_BITS
+    bits = base_bits if base_bits is not None else FULL_ELIMINATION_BITS if full else ELIMINATION_BITS
     if capped is None:
         # the runaway guard of the full elimination (δ-degree ≤ ELIMINATION_MAX_DEGREE)
         # by the number of entries only: the sparse 8×8 of bench_ring, its five nonzero
