@@ -35,7 +35,11 @@ Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, 
       and V differently (ours, square nonsingular: U = the Hermite transform, V small;
       Sage: the reverse), so one of ours may exceed Sage's (``U:bits`` by a few bits, or
       ``U:deg``) while the pair is smaller (random 8×8: U + V 226 kbit against Sage's
-      539 kbit; smith 12×12, ``--max-n 16``: 132 against 11 525 kbit).  Rectangular and singular
+      539 kbit; smith 12×12, ``--max-n 16``: 132 against 11 525 kbit).  On the rowdeg
+      family ours goes through the transpose (``transposed_route``: the large transform
+      is V there), and its small U, ``[[I, 0], [−l, 1]]`` up to a row order, can have a
+      degree or two more than Sage's (``U:deg``; 3, 3, 3, 40: U 48/74/11k and V
+      9/77/11k against Sage's 46/305/46k and 61/343/66k).  Rectangular and singular
       matrices go through Hermite forms and their unit pivots; there both of ours are
       smaller on every measure (rankdef 12×12: U 8/401/367k and V 5/358/74k against
       Sage's 100/3390/4152k and 89/3366/6303k).
@@ -120,6 +124,10 @@ Cases (seeded, identical for every library)
                rows or columns of high degree
     column     3×1 and 6×1, entries of degree k (k = 16, 64; the "n" column is k): the input
                matrix B of a single-input system, the output row of a single-output one
+    rowdeg     square, row i of degree d_i (coefficients in [−3, 3]; the "n" column is the
+               greatest d_i): 0, 1, 4, 16, 32; 0, 8, 16, 24; 3, 3, 3, 40; 2, 2, 2, 2, 2, 30
+               (channels of very different delays), and 1, 6, 12, 32, 32 with three rows of
+               high degree
     paper001   M = [[C B, D], [D, 0]] of Zheng et al. §5 (6×4)
 
 After the table: the fitted growth exponents of left_kernel, left_inverse, hermite and
@@ -168,8 +176,9 @@ SPARSE_SIZES = [8, 10, 12]
 TRIANGULAR_SIZES = [8, 16, 24]
 NARROW_KS = [16, 32]
 COLUMN_KS = [16, 64]
+ROW_DEGREES = [[0, 1, 4, 16, 32], [0, 8, 16, 24], [3, 3, 3, 40], [2, 2, 2, 2, 2, 30], [1, 6, 12, 32, 32]]
 FAMILIES = ["random", "smith", "tall", "tall4", "rankdef", "highdeg", "highdeg4", "sparse", "triangular",
-            "narrow", "column", "paper001"]
+            "narrow", "column", "rowdeg", "paper001"]
 
 Coeffs = list[int]  # low to high
 Data = list[list[Coeffs]]  # matrix of coefficient lists
@@ -217,6 +226,12 @@ def _matmul(A: Data, B: Data) -> Data:
 
 def _random_matrix(rng: random.Random, n: int, m: int, degree: int, lo: int = -3, hi: int = 3) -> Data:
     return [[_trim([rng.randint(lo, hi) for _ in range(degree + 1)]) for _ in range(m)] for _ in range(n)]
+
+
+def _rows_of_degrees(rng: random.Random, degrees: list[int]) -> Data:
+    """Square; row i has entries of degree degrees[i] (nonzero leading coefficients)."""
+    return [[[rng.randint(-3, 3) for _ in range(d)] + [rng.choice([-3, -2, -1, 1, 2, 3])] for _ in degrees]
+            for d in degrees]
 
 
 def _random_unimodular(rng: random.Random, n: int) -> Data:
@@ -330,6 +345,11 @@ def _build_all(sizes: list[int], seed: int, *, quick: bool, max_n: int) -> list[
         for m in (3, 6):
             cases.append(dict(family="column", n=k, shape=(m, 1), M=_random_matrix(rng10, m, 1, k), W=None,
                               ops=["hermite", "left_inverse", "left_kernel"]))
+    rng11 = random.Random(seed + 11)
+    for degrees in (ROW_DEGREES[:2] if quick else ROW_DEGREES):
+        M = _rows_of_degrees(rng11, degrees)
+        cases.append(dict(family="rowdeg", n=max(degrees), shape=(len(M), len(M)), M=M, W=None,
+                          ops=["hermite", "smith", "invariant_factors", "det"]))
     M = paper_001_matrix()
     cases.append(dict(family="paper001", n=6, shape=(6, 4), M=M, W=[M[0], M[2]],
                       ops=["hermite", "smith", "invariant_factors", "rank", "left_kernel", "solve_left"]))

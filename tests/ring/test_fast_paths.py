@@ -343,6 +343,37 @@ def test_square_with_few_rows_of_high_degree_takes_the_elimination(seed, low, hi
     assert (g.H, g.U) == (ref.H, ref.U)
 
 
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 10**6), low=st.lists(st.integers(0, 2), min_size=2, max_size=4),
+       high=st.integers(14, 24))
+def test_smith_of_rows_far_apart_goes_through_the_transpose(seed, low, high):
+    """Row degrees such as 0, 2, 1, 20 (``transposed_route``): S from the transpose, with
+    the row of greatest degree last, is the Smith form, and V, the transform that is
+    large there, has entries of degree ≤ Σ row degrees − the greatest (the bound of
+    the transposed route; the direct route's V holds h, of degree up to deg det − 1)."""
+    degrees = low + [high]
+    M = _rows_of_degrees(random.Random(seed), degrees)
+    assume(not M.det().is_zero())
+    n = len(degrees)
+    assert smith_module.transposed_route(M._r, n) is not None
+    answered: list[bool] = []
+    real = smith_module.generic_hermite
+
+    def spy(a, k):
+        got = real(a, k)
+        answered.append(got is not None)
+        return got
+
+    with mock.patch.object(smith_module, "generic_hermite", spy):
+        s = smith(M)
+    assert s.U @ M @ s.V == s.S and is_smith(s.S)
+    assert_unimodular(s.U, n)
+    assert_unimodular(s.V, n)
+    assert s.S == smith_module.smith_by_elimination(M).S
+    assume(answered == [True])  # the generic path answered for the transpose
+    assert max(s.V[i, j].degree() for i in range(n) for j in range(n)) <= sum(degrees) - high
+
+
 def test_few_high_rows():
     """At most two rows above a third of the greatest degree, and the others a block
     the elimination handles (len³·degree < GENERIC_MIN_WORK)."""

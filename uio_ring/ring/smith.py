@@ -162,6 +162,46 @@ class SmithResult:
         return rf"$S = {self.S.to_latex()}$"
 
 
+#: :func:`transposed_route` takes the transposed route when its degree bound is at most
+#: this fraction of the direct one (a near tie keeps the direct route and its split).
+TRANSPOSED_ROUTE_RATIO = 0.9
+
+
+def transposed_route(a: dn.Rows, n: int) -> list[int] | None:
+    """The row order P (the row of greatest degree last) under which the Smith transforms
+    of a square M come out smaller through ``(P·M)ᵀ``, or None for M itself.
+
+    The generic path gives ``U = H·adj M / det M`` and a small V (``[[I, −h], [0, 1]]``).
+    With ``adj_ij`` the cofactor without row j and column i, of degree ≤ min(D_r − d_j,
+    D_c − c_i) (d, c the row and column degrees, D_r, D_c their sums), every entry of
+    U's column j has degree ≤ min(D_r − d_j, D_c − c_n).  Through the transpose the large
+    transform is V, and its entries in row i have degree ≤ min(D_r − d_n, D_c − c_i),
+    with d_n the degree of the last row — so that row is the row of greatest degree.
+    The transposed route is taken when the sum of its bounds is at most
+    ``TRANSPOSED_ROUTE_RATIO`` times the direct one: when the row degrees are far apart
+    and the column degrees are not.  Measured (U + V, kbit, direct / transposed / SageMath):
+    row degrees 0, 1, 4, 16, 32: 465 / 165 / 285; 3, 3, 3, 40: 179 / 20 / 112; 2, 2, 2,
+    2, 2, 30: 543 / 70 / 322; 1, 6, 12, 32, 32: 1487 / 1151 / 1336, and 1.3–1.9× faster.
+    Balanced matrices tie and keep the direct route, where the transposed one is larger
+    (random 8×8 of degree 2: 238 against 280; 4×4 of degree 64: 8706 against 10823).
+
+    >>> from uio_ring.ring.matrix import PolyMatrix
+    >>> M = PolyMatrix([["d**40 + 1", "d", 1], [1, "d + 2", 0], ["d**2", 1, "d**3 - 1"]])
+    >>> B = PolyMatrix([["d**8 + 1", "d**8", "d**7 - 1"], ["d**8", "d**8 + 2", "d"], ["d**2", "d**8", "d**8 - 1"]])
+    >>> transposed_route(M._r, 3), transposed_route(B._r, 3)       # rows of degree 40, 1, 3; balanced
+    ([1, 2, 0], None)
+    """
+    d = [dn.row_degree(row) for row in a]
+    c = [max(a[i][j].degree() for i in range(n)) for j in range(n)]
+    last = max(range(n), key=lambda i: (d[i], i))
+    dr, dc = sum(d), sum(c)
+    direct = sum(max(0, min(dr - d[j], dc - c[n - 1])) for j in range(n))
+    transposed = sum(max(0, min(dr - d[last], dc - c[i])) for i in range(n))
+    if transposed > TRANSPOSED_ROUTE_RATIO * direct:
+        return None
+    return [i for i in range(n) if i != last] + [last]
+
+
 def smith(M: PolyMatrix) -> SmithResult:
     """Smith normal form of M with unimodular U, V such that ``U @ M @ V == S``.
 
@@ -188,7 +228,11 @@ def smith(M: PolyMatrix) -> SmithResult:
     A row permutation of a triangular matrix with a nonzero diagonal that is not in
     Hermite form is replaced by its Hermite form H = U_H·M (one normalisation,
     :func:`~uio_ring.ring.hermite.hermite_of_triangular`; then U = U_S·U_H).
-    Square nonsingular matrices of size ≥ ``GENERIC_MIN_SIZE`` whose row degrees
+    Square matrices whose row degrees are far apart and column degrees are not (row
+    degrees 0, 1, 4, 16, 32) are transposed first, their row of greatest degree last,
+    which puts the large transform on the side of fewer bits
+    (:func:`transposed_route`).  Square nonsingular matrices of size ≥
+    ``GENERIC_MIN_SIZE`` whose row degrees
     add up to more than ``deg det`` are first reduced to weak Popov form ``W·M``
     (:mod:`uio_ring.ring._reduce`; then U = U_R·W).  They then try the certified
     generic path of :mod:`uio_ring.ring._generic` (``S = H·V`` with H the generic
@@ -222,7 +266,14 @@ def smith(M: PolyMatrix) -> SmithResult:
     --------
     invariant_factors, is_smith
     """
-    M = require_matrix(M, "smith")
+    return _smith(require_matrix(M, "smith"))
+
+
+def _smith(M: PolyMatrix, *, orient: bool = True) -> SmithResult:
+    """:func:`smith`; ``orient=False``: M is not transposed (:func:`transposed_route`; only
+    M itself is: its weak Popov form, whose rows are reduced, keeps the direct route —
+    transposed, the P·diag(1, …, δ+1, (δ+1)(δ−2))·Q of 8×8 gave U + V of 67 against
+    21 kbit)."""
     m, n = M.shape
     var = M.var
     triangular = hermite_of_triangular(M)
@@ -230,6 +281,16 @@ def smith(M: PolyMatrix) -> SmithResult:
         res = smith(triangular.H)
         return SmithResult(res.S, res.U @ triangular.U, res.V, res.invariant_factors)
     if m == n and generic_first(M._r, n):
+        order = transposed_route(M._r, n) if orient else None
+        if order is not None:  # P·M = Mp and U'·Mpᵀ·V' = S: U = V'ᵀ·P, V = U'ᵀ
+            mp = PolyMatrix._new([M._r[i] for i in order], n, n, var)
+            res = _smith(mp.T, orient=False)
+            ut = res.V.T._r
+            u = [[bk.ZERO] * n for _ in range(n)]
+            for r, i in enumerate(order):
+                for k in range(n):
+                    u[k][i] = ut[k][r]
+            return SmithResult(res.S, PolyMatrix._new(u, n, n, var), res.U.T, res.invariant_factors)
         if n < GENERIC_MIN_SIZE:  # small, of high degree: the elimination while it stays small
             try:
                 return _smith_by_elimination(M, bit_cap=elimination_cap(M._r))
@@ -238,7 +299,7 @@ def smith(M: PolyMatrix) -> SmithResult:
         reduced = degree_reduced(M._r, n, track=True)
         if reduced is not None:  # S(M) = S(W M): U = U_R W, V = V_R
             R, W = reduced
-            res = smith(PolyMatrix._new(R, n, n, var))
+            res = _smith(PolyMatrix._new(R, n, n, var), orient=False)
             return SmithResult(res.S, res.U @ PolyMatrix._new(W or [], n, n, var), res.V, res.invariant_factors)
         got = generic_hermite(M._r, n)
         if got is not None:  # H = [[I, h], [0, δ_n]] and V = [[I, -h], [0, 1]]
