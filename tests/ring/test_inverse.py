@@ -8,6 +8,8 @@ for a left inverse reduced modulo a Popov basis of the kernel (see
 
 from __future__ import annotations
 
+import random
+
 import pytest
 from hypothesis import event, example, given
 from hypothesis import strategies as st
@@ -456,3 +458,24 @@ def test_routing_answer_skips_the_exact_minors_on_modular_evidence(monkeypatch, 
     assert exact_calls
     R = PolyMatrix(R)
     assert coprime_maximal_minors(R._r, 3, 2, routing=True) and is_left_unimodular(R)
+
+
+@given(st.integers(8, 48), st.integers(8, 48), st.integers(0, 10**6))
+def test_left_inverse_of_two_rows_is_the_reduced_bezout_row(da, db, seed):
+    """M = [a; b] with coprime a, b of high degree (the elimination runs without cap on two
+    rows): X·M = 1 and deg X₀ < deg b, deg X₁ < deg a — the unique Bézout row of least
+    degree (any other is X + q·(−b, a))."""
+    rng = random.Random(seed)
+
+    def entry(d: int) -> str:
+        return " + ".join(f"({rng.randint(-3, 3) if e < d else rng.choice([-2, -1, 1, 2])})*d**{e}" for e in range(d + 1))
+
+    M = PolyMatrix([[entry(da)], [entry(db)]])
+    a, b = M[0, 0], M[1, 0]
+    if a.gcd(b).degree() > 0:
+        with pytest.raises(NotUnimodularError):
+            left_inverse(M)
+        return
+    X = left_inverse(M)
+    assert X @ M == PolyMatrix.identity(1)
+    assert X[0, 0].degree() < b.degree() and X[0, 1].degree() < a.degree()
