@@ -374,6 +374,34 @@ def test_smith_of_rows_far_apart_goes_through_the_transpose(seed, low, high):
     assert max(s.V[i, j].degree() for i in range(n) for j in range(n)) <= sum(degrees) - high
 
 
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(6, 10))
+def test_very_sparse_square_takes_the_elimination(seed, n):
+    """δI − A with A of one or two small constants a row (``_very_sparse``): the capped
+    elimination answers, without the generic path, with the unique H and U."""
+    rng = random.Random(seed)
+    rows = [[0] * n for _ in range(n)]
+    for i in range(n):
+        rows[i][i] = f"d - {rng.randint(-2, 2)}"
+        for j in rng.sample([j for j in range(n) if j != i], rng.randint(0, 1)):
+            rows[i][j] = rng.choice([-3, -2, -1, 1, 2, 3])
+    M = PolyMatrix(rows)
+    assert hermite_module._very_sparse(M._r, n) and hermite_module.generic_first(M._r, n)
+    calls: list[bool] = []
+    real = hermite_module.generic_hermite
+
+    def spy(a, k):
+        calls.append(True)
+        return real(a, k)
+
+    with mock.patch.object(hermite_module, "generic_hermite", spy):
+        h = hermite(M)
+    assert calls == []
+    ref = hermite_by_elimination(M)
+    assert (h.H, h.U) == (ref.H, ref.U) and h.U @ M == h.H
+    assert_unimodular(h.U, n)
+
+
 def test_few_high_rows():
     """At most two rows above a third of the greatest degree, and the others a block
     the elimination handles (len³·degree < GENERIC_MIN_WORK)."""
