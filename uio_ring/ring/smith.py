@@ -34,6 +34,7 @@ from uio_ring.ring._generic import (
 from uio_ring.ring._kernel_basis import popov_left_kernel
 from uio_ring.ring._predicates import (
     coprime_maximal_minors,
+    full_rank_at_zero,
     is_smith_raw,
     is_unimodular_raw,
     rank_raw,
@@ -281,7 +282,8 @@ def _smith(M: PolyMatrix, *, orient: bool = True) -> SmithResult:
         res = smith(triangular.H)
         return SmithResult(res.S, res.U @ triangular.U, res.V, res.invariant_factors)
     if m == n and generic_first(M._r, n):
-        order = transposed_route(M._r, n) if orient else None
+        # (M(0) nonsingular proves M so, for which the generic path and the bounds hold)
+        order = transposed_route(M._r, n) if orient and full_rank_at_zero(M._r, n, n) else None
         if order is not None:  # P·M = Mp and U'·Mpᵀ·V' = S: U = V'ᵀ·P, V = U'ᵀ
             mp = PolyMatrix._new([M._r[i] for i in order], n, n, var)
             res = _smith(mp.T, orient=False)
