@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import ast
+import contextlib
 import importlib
 import pathlib
 import random
@@ -243,16 +244,20 @@ def test_smith_high_degree(k):
 smith_module = importlib.import_module("uio_ring.ring.smith")
 
 
-def _spy_generic(monkeypatch) -> list[bool]:
-    """Record, for each call of generic_hermite by hermite or smith, whether it succeeded."""
-    calls: list[bool] = []
-    real = hermite_module.generic_hermite
-
+def _recording(real, calls: list[bool]):
+    """``real`` (generic_hermite), appending to ``calls`` whether each call answered."""
     def spy(a, n):
         got = real(a, n)
         calls.append(got is not None)
         return got
 
+    return spy
+
+
+def _spy_generic(monkeypatch) -> list[bool]:
+    """Record, for each call of generic_hermite by hermite or smith, whether it succeeded."""
+    calls: list[bool] = []
+    spy = _recording(hermite_module.generic_hermite, calls)
     monkeypatch.setattr(hermite_module, "generic_hermite", spy)
     monkeypatch.setattr(smith_module, "generic_hermite", spy)
     return calls
@@ -303,6 +308,15 @@ def test_small_square_of_high_degree_with_small_coefficients_stays_in_the_elimin
     assert_unimodular(s.V, 4)
 
 
+@contextlib.contextmanager
+def _generic_calls(module):
+    """Record, inside the block, whether each call of ``module.generic_hermite`` answered
+    (without pytest's monkeypatch fixture, which hypothesis tests cannot take)."""
+    calls: list[bool] = []
+    with mock.patch.object(module, "generic_hermite", _recording(module.generic_hermite, calls)):
+        yield calls
+
+
 def _rows_of_degrees(rng: random.Random, degrees: list[int]) -> PolyMatrix:
     """A square matrix whose row i has entries of degree ≤ degrees[i], one of them exactly."""
     def entry(d: int, lead: bool) -> str:
@@ -327,14 +341,7 @@ def test_square_with_few_rows_of_high_degree_takes_the_elimination(seed, low, hi
     n = len(degrees)
     assert hermite_module.generic_first(M._r, n) and hermite_module.few_high_rows(M._r)
     ref = hermite_by_elimination(M)
-    calls: list[bool] = []
-    real = hermite_module.generic_hermite
-
-    def spy(a, k):
-        calls.append(True)
-        return real(a, k)
-
-    with mock.patch.object(hermite_module, "generic_hermite", spy):
+    with _generic_calls(hermite_module) as calls:
         h = hermite(M)
         assert calls == []
         assert (h.H, h.U) == (ref.H, ref.U) and h.U @ M == h.H
@@ -356,15 +363,7 @@ def test_smith_of_rows_far_apart_goes_through_the_transpose(seed, low, high):
     n = len(degrees)
     assume(smith_module.full_rank_at_zero(M._r, n, n))  # M(0) nonsingular: the route's precondition
     assert smith_module.transposed_route(M._r, n) is not None
-    answered: list[bool] = []
-    real = smith_module.generic_hermite
-
-    def spy(a, k):
-        got = real(a, k)
-        answered.append(got is not None)
-        return got
-
-    with mock.patch.object(smith_module, "generic_hermite", spy):
+    with _generic_calls(smith_module) as answered:
         s = smith(M)
     assert s.U @ M @ s.V == s.S and is_smith(s.S)
     assert_unimodular(s.U, n)
@@ -387,14 +386,7 @@ def test_very_sparse_square_takes_the_elimination(seed, n):
             rows[i][j] = rng.choice([-3, -2, -1, 1, 2, 3])
     M = PolyMatrix(rows)
     assert hermite_module._very_sparse(M._r, n) and hermite_module.generic_first(M._r, n)
-    calls: list[bool] = []
-    real = hermite_module.generic_hermite
-
-    def spy(a, k):
-        calls.append(True)
-        return real(a, k)
-
-    with mock.patch.object(hermite_module, "generic_hermite", spy):
+    with _generic_calls(hermite_module) as calls:
         h = hermite(M)
     assert calls == []
     ref = hermite_by_elimination(M)
