@@ -784,7 +784,7 @@ def unbalanced_cap(rows: dn.Rows) -> int:
     (bits + log₂ n + 1)``.  The U of such an M has about 2–4 bits per unit of
     ``Σ row degrees · (bits + log₂ n + 1)`` (``Σ row degrees ≥ deg det``; row degrees
     0, 1, 4, 16, 32 and entries in [−3, 3]: 949 bits against 53·5.3), its elimination
-    peaks at 1–1.8 times that: the cap is a guard against a swell this rule did not
+    peaked at 1–2.5 times that: the cap is a guard against a swell this rule did not
     foresee, not the test that chooses the path."""
     total = sum(dn.row_degree(row) for row in rows)
     return UNBALANCED_CAP_FACTOR * total * (max_bits(rows) + len(rows).bit_length() + 1)

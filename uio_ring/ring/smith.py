@@ -229,8 +229,9 @@ def smith(M: PolyMatrix) -> SmithResult:
     A row permutation of a triangular matrix with a nonzero diagonal that is not in
     Hermite form is replaced by its Hermite form H = U_H·M (one normalisation,
     :func:`~uio_ring.ring.hermite.hermite_of_triangular`; then U = U_S·U_H).
-    Square matrices whose row degrees are far apart and column degrees are not (row
-    degrees 0, 1, 4, 16, 32) are transposed first, their row of greatest degree last,
+    Square matrices with M(0) nonsingular whose row degrees are far apart and column
+    degrees are not (row degrees 0, 1, 4, 16, 32) are transposed first, their row of
+    greatest degree last,
     which puts the large transform on the side of fewer bits
     (:func:`transposed_route`).  Square nonsingular matrices of size ≥
     ``GENERIC_MIN_SIZE`` whose row degrees
