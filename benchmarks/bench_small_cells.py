@@ -35,7 +35,7 @@ CELLS = [
     ("paper001", 6, "hermite"), ("paper001", 6, "left_kernel"), ("highdeg", 16, "hermite"),
     ("highdeg", 32, "hermite"), ("highdeg", 32, "det"), ("highdeg", 64, "det"), ("highdeg", 128, "det"),
     ("highdeg", 256, "det"), ("highdeg4", 8, "hermite"), ("highdeg4", 8, "det"), ("sparse", 8, "hermite"),
-    ("sparse", 8, "rank"),
+    ("sparse", 8, "rank"), ("rowdeg", 24, "hermite"), ("rowdeg", 40, "hermite"),
 ]
 
 

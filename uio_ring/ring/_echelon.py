@@ -83,13 +83,10 @@ def row_echelon(
     A pivot that divides an entry eliminates it by one division instead, and its
     row stays unchanged: then the alternating row/column passes of the Smith form
     keep the degree of the corner entry falling until it divides its row and
-    column.  ``small_lead_ties``: ties of least degree and least row degree go to the
-    entry whose numerator has the smallest leading coefficient (fewer and smaller
-    denominators in the quotients: rank-deficient 4×4, 0.13 → 0.12 ms) instead of the
-    first row; for callers whose result does not depend on the steps (Hermite: H and the
-    reduced U are unique).  The row degree stays the first key: rows of degrees 0, 1, 4,
-    16, 32 took 31 ms when a row of degree 32 could win a tie on its coefficient, 7 ms
-    otherwise.
+    column.  ``small_lead_ties``: ties of least degree go to the entry whose numerator has
+    the smallest leading coefficient (fewer and smaller denominators in the quotients:
+    rank-deficient 4×4, 0.13 → 0.12 ms) instead of the least row degree; for callers
+    whose result does not depend on the steps (Hermite: H and the reduced U are unique).
     Precondition: ``u`` has m rows (not checked).
     """
     r = 0
@@ -109,7 +106,7 @@ def row_echelon(
             if len(ties) == 1:
                 p = ties[0]
             elif small_lead_ties:
-                p = min(ties, key=lambda i: (dn.row_degree(a[i]), abs(a[i][j].numer().leading_coefficient()), i))
+                p = min(ties, key=lambda i: (abs(a[i][j].numer().leading_coefficient()), i))
             else:
                 p = min(ties, key=lambda i: (dn.row_degree(a[i]), i))
             if len(nz) <= xgcd_rows:
