@@ -728,13 +728,13 @@ def few_high_rows(rows: dn.Rows) -> bool:
     >>> few_high_rows(M._r), few_high_rows((M + PolyMatrix([["d**12"] * 3] * 3))._r)
     (True, False)
     """
-    if max_bits(rows) > UNBALANCED_MAX_BITS:
-        return False
     degrees = sorted((dn.row_degree(row) for row in rows), reverse=True)
     high = sum(3 * d > degrees[0] for d in degrees)
     rest = degrees[high:]
-    # and the low rows are themselves a block the elimination handles (generic_first)
-    return high <= 2 and (not rest or len(rest) ** 3 * rest[0] < GENERIC_MIN_WORK)
+    # and the low rows are themselves a block the elimination handles (generic_first);
+    # the bits last: a pass over every coefficient, where most matrices fail on degrees
+    return (high <= 2 and (not rest or len(rest) ** 3 * rest[0] < GENERIC_MIN_WORK)
+            and max_bits(rows) <= UNBALANCED_MAX_BITS)
 
 
 #: :func:`_very_sparse`: at most this many nonzero entries per row, on average.

@@ -12,6 +12,7 @@ Normalisation
 from __future__ import annotations
 
 from dataclasses import dataclass
+from fractions import Fraction
 
 from uio_ring.ring import _backend as bk
 from uio_ring.ring import _dense as dn
@@ -164,8 +165,9 @@ class SmithResult:
 
 
 #: :func:`transposed_route` takes the transposed route when its degree bound is at most
-#: this fraction of the direct one (a near tie keeps the direct route and its split).
-TRANSPOSED_ROUTE_RATIO = 0.9
+#: this fraction of the direct one (a near tie keeps the direct route and its split;
+#: exact, as everything in the ring).
+TRANSPOSED_ROUTE_RATIO = Fraction(9, 10)
 
 
 def transposed_route(a: dn.Rows, n: int) -> list[int] | None:
