@@ -8,7 +8,9 @@ the multimodular xgcd: each fast path against the plain one it replaces.
 - :class:`uio_ring.ring._division.PopovDivisor` ``via=(P, G)`` gives the same remainders
   as the division by the Popov basis itself.
 - :func:`uio_ring.ring._xgcd.xgcd` gives python-flint's ``xgcd`` triple (forced onto the
-  modular path for small degrees), and a wrong candidate is rejected by its check.
+  modular path for small degrees), and a wrong candidate is rejected by its check; the
+  Graeffe bound that routes it bounds the resultant, and sends the benchmark's binomials
+  to the modular path and random polynomials to FLINT's.
 """
 
 from __future__ import annotations
@@ -274,8 +276,39 @@ rat_polys = st.lists(
 def test_xgcd_modular_equals_flint(a, b, h):
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(xg, "MIN_DEGREE", 1)
+        mp.setattr(xg, "_bound_overestimates", lambda a, b: True)
         got = xg.xgcd(a * h, b * h)
     assert got == (a * h).xgcd(b * h)
+
+
+int_polys = st.lists(st.integers(-50, 50), min_size=2, max_size=16).map(flint.fmpz_poly).filter(
+    lambda c: c.degree() >= 1)
+
+
+@given(int_polys, int_polys, st.integers(0, 3))
+def test_graeffe_bound_bounds_the_resultant(a, b, steps):
+    # 2^(steps+1)·log2|res| ≤ bound, with log2|res| ≥ bits − 1
+    res = abs(int(a.resultant(b)))
+    assume(res != 0)
+    assert (res.bit_length() - 1) << (steps + 1) <= xg._resultant_bound(a, b, steps)
+    assert xg._resultant_bound(a, b, steps) <= xg._resultant_bound(a, b, 0) << steps
+
+
+def test_xgcd_routes_by_the_graeffe_bound():
+    # the benchmark's binomials (cofactors far below the norm bound) take the modular
+    # path; random coefficients FLINT's, which is faster there; the same triple either way
+    import random
+
+    rng = random.Random(3)
+    x = flint.fmpq_poly([0, 1])
+    rand = [flint.fmpq_poly([rng.randint(-3, 3) for _ in range(64)]) + x**64 for _ in range(2)]
+    calls = []
+    real = xg._xgcd_modular
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(xg, "_xgcd_modular", lambda a, b: calls.append(a) or real(a, b))
+        for a, b in (((1 + x) ** 64, x**64 - 1), (rand[0], rand[1])):
+            assert xg.xgcd(a, b) == a.xgcd(b)
+    assert calls == [(1 + x) ** 64]
 
 
 def test_xgcd_benchmark_polynomials():
@@ -303,7 +336,7 @@ def test_xgcd_of_numerators_with_large_contents(ka, kb, seed):
     real = xg._prime
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(xg, "_prime", lambda i: used.append(i) or real(i))
-        got = xg.xgcd(a, b)
+        got = xg._xgcd_modular(a, b)
     assert got == a.xgcd(b)
     assert len(used) < 100
 
