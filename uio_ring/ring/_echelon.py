@@ -40,12 +40,12 @@ def _xgcd_step(a: dn.Rows, u: dn.Rows | None, p: int, i: int, j: int) -> None:
     x, y = a[p][j], a[i][j]
     g, s, t = bk.xgcd(x, y)
     xg, yg = x // g, y // g
-    for rows in (a, u):
+    for rows, skip in ((a, j), (u, -1)):
         if rows is None:
             continue
         rp, ri = rows[p], rows[i]
-        rows[p] = [s * e + t * f for e, f in zip(rp, ri, strict=True)]
-        rows[i] = [xg * f - yg * e for e, f in zip(rp, ri, strict=True)]
+        rows[p] = [s * e + t * f if c != skip else g for c, (e, f) in enumerate(zip(rp, ri, strict=True))]
+        rows[i] = [xg * f - yg * e if c != skip else bk.ZERO for c, (e, f) in enumerate(zip(rp, ri, strict=True))]
 
 
 def row_echelon(

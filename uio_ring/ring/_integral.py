@@ -267,8 +267,10 @@ def _xgcd_step(a: IntRows, u: Packed | None, p: int, i: int, j: int, scaling: bo
     if not scaling and (D1 != 1 or D2 != 1):
         raise Scaled
     rp, ri = a[p], a[i]
-    a[p] = [s * e + t * f for e, f in zip(rp, ri, strict=True)]
-    a[i] = [xg * f - yg * e for e, f in zip(rp, ri, strict=True)]
+    # column j set, not computed: s·a_p + t·a_i = D1·g and xg·a_i − yg·a_p = 0
+    gp, zero = (g * D1).numer(), flint.fmpz_poly()
+    a[p] = [s * e + t * f if c != j else gp for c, (e, f) in enumerate(zip(rp, ri, strict=True))]
+    a[i] = [xg * f - yg * e if c != j else zero for c, (e, f) in enumerate(zip(rp, ri, strict=True))]
     if u is not None:
         u.combine(p, i, s, t, xg, yg)
     if D1 != 1:
