@@ -54,8 +54,9 @@ Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, 
       Popov basis has 168 bits (its total, 21 425 bits, is below its weak Popov one's).
 
     Expected below 1× (time, not size): ``hermite`` and ``left_inverse`` on the column
-    family, 0.2–0.9× (3×1 and 6×1 of degree 16: 0.5–0.8 ms against 0.3–0.5 ms; by
-    instruction count, ``count_instructions.py``, 0.24–0.32×).  SageMath's
+    family, 0.2–0.9× (3×1 and 6×1 of degree 16: 0.5–0.8 ms against 0.3–0.5 ms; of
+    degree 64: 8.5–9.1 ms against 1.4–2.8 ms; by instruction count,
+    ``count_instructions.py``, 0.24–0.32×).  SageMath's
     ``hermite_form`` of a column is m − 1 extended gcds, its U left as they build it: its
     kernel rows are not a minimal basis (6×1 of degree 16: U of degree 31, the minimal
     indices are 3 and 4; degree 64: 127 against 13), and its left inverse is not reduced
@@ -66,10 +67,14 @@ Output size (``deg/bits/total`` columns, for each output matrix: H, U, V, K, L, 
     remaindering, the same exact certificate): slower than that solve in C, 0.46–0.64
     against 0.36–0.49 ms at degree 16 and 8.6–9.1 against 6.3–6.4 ms at degree 64 (11
     primes; Wang's reconstruction of 700-bit residues in Python, about 0.25 ms each).  The
-    kernel itself is 2.6–11× faster than SageMath's ``minimal_kernel_basis`` on the same
-    columns.  Sub-millisecond cells of one pass (highdeg 32 ``hermite``, highdeg ``det``
-    from k = 64, sparse 8 ``hermite``) can show 0.6–0.7×: ``bench_small_cells.py``, which
-    interleaves the libraries, puts them at 1.0–1.3×.
+    kernel itself is 2.2–11× faster than SageMath's ``minimal_kernel_basis`` on the same
+    columns.  Even SageMath's own algorithm would lose here through python-flint: the
+    one nontrivial extended gcd of the 3×1 of degree 64 takes 1.3 ms in python-flint
+    0.8's FLINT 3.3.1, 0.8 ms in SageMath's FLINT 3.6, whose whole ``hermite_form``
+    takes 1.2 ms.  Sub-millisecond cells of one pass (highdeg 32 ``hermite``, highdeg
+    ``det`` from k = 64, sparse 8 ``hermite``, narrow 2×4 ``hermite``) can show
+    0.6–0.9×: ``bench_small_cells.py``, which interleaves the libraries, puts them at
+    1.0–1.4×.
 
     Both libraries' results are verified
     after timing (U·M = H, U·M·V = S with U, V unimodular, K·M = 0 with

@@ -28,14 +28,16 @@ sys.path.insert(0, str(HERE))  # bench_ring, beside this script
 #: the seed of bench_ring.py's default cases
 SEED = 20261123
 
-#: (family, n, operation) of bench_ring.py whose times are below a millisecond or so
-CELLS = [
+#: (family, n, operation[, shape]) of bench_ring.py whose times are below a millisecond or
+#: so (the shape where a family has two at one n)
+CELLS: list[tuple] = [
     ("random", 4, "hermite"), ("random", 4, "det"), ("rankdef", 4, "hermite"), ("smith", 4, "hermite"),
     ("tall", 4, "hermite"), ("tall", 4, "left_inverse"), ("tall", 8, "hermite"), ("tall", 8, "left_inverse"),
     ("paper001", 6, "hermite"), ("paper001", 6, "left_kernel"), ("highdeg", 16, "hermite"),
     ("highdeg", 32, "hermite"), ("highdeg", 32, "det"), ("highdeg", 64, "det"), ("highdeg", 128, "det"),
     ("highdeg", 256, "det"), ("highdeg4", 8, "hermite"), ("highdeg4", 8, "det"), ("sparse", 8, "hermite"),
     ("sparse", 8, "rank"), ("rowdeg", 24, "hermite"), ("rowdeg", 40, "hermite"),
+    ("narrow", 16, "hermite", (2, 4)), ("narrow", 32, "hermite", (2, 4)),
 ]
 
 
@@ -46,8 +48,8 @@ def time_cells(library: str) -> dict[str, float]:
     cases = br.build_cases([4, 8], SEED, max_n=8)
     setup = br._setup_ours if library == "ours" else br._setup_sage
     out = {}
-    for family, n, op in CELLS:
-        case = next(c for c in cases if c["family"] == family and c["n"] == n)
+    for family, n, op, *shape in CELLS:
+        case = next(c for c in cases if c["family"] == family and c["n"] == n and shape in ([], [c["shape"]]))
         f = setup(case)[0][op]
         f()
         start = time.process_time()
@@ -59,7 +61,7 @@ def time_cells(library: str) -> dict[str, float]:
             for _ in range(loops):
                 f()
             best = min(best, (time.process_time() - start) / loops)
-        out[f"{family} {n} {op}"] = best
+        out[f"{family} {n} {op}" + "".join(f" {r}x{k}" for r, k in shape)] = best
     return out
 
 
