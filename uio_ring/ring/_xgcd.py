@@ -71,8 +71,6 @@ MODULAR_MAX_RATIO = Fraction(1, 3)
 #: by up to half; two cost 0.03–0.2 ms at degree 48–128, a few % of either xgcd).
 GRAEFFE_STEPS = 2
 
-_X = flint.fmpz_poly([0, 1])
-
 _PRIMES: list[int] = []
 
 
@@ -110,7 +108,7 @@ def _graeffe(c: flint.fmpz_poly) -> flint.fmpz_poly:
     """
     cs = c.coeffs()
     even, odd = flint.fmpz_poly(cs[0::2]), flint.fmpz_poly(cs[1::2])
-    return even * even - _X * odd * odd
+    return even * even - (odd * odd).left_shift(1)
 
 
 def _norm_bits2(c: flint.fmpz_poly) -> int:
